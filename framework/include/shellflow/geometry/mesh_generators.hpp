@@ -1,0 +1,56 @@
+#pragma once
+// Triangle meshes for shells: generators (plane/grid, box, open box, open cylinder,
+// sphere), OBJ loading, and the scene-file form shared by every solid plugin:
+//
+//   "mesh": {"type": "grid", "size": [2, 3], "nodes": [11, 16], "pattern": "herringbone"}
+//   "mesh": {"type": "obj", "file": "meshes/cup.obj"}
+//   "transform": {"scale": 1, "rotate_axis": [0,1,0], "rotate_deg": 90, "translate": [2,4,3]}
+//
+// Conventions (tests rely on them):
+//  - grid: in the x–y plane (normal +z), centred at the origin; node (i, j) has index
+//    i + nodes_u * j, i along +x, j along +y; j = nodes_v-1 is the "top" edge.
+//  - closed meshes (box, sphere) have outward normals (counter-clockwise seen from outside);
+//    open_box and open_cylinder are cups open towards +y with outward normals.
+//  - box, open_box: centred at the origin. open_cylinder: axis +y, base at y = 0.
+
+#include <Eigen/Geometry>
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+#include "shellflow/sdk/schema.hpp"
+#include "shellflow/sdk/shell_surface.hpp"
+
+namespace shellflow::geometry {
+
+struct SurfaceMesh {
+  sdk::Positions positions;
+  sdk::Triangles triangles;
+};
+
+/// How each grid quad is split into two triangles.
+enum class GridPattern {
+  Regular,      ///< every quad split along the same diagonal
+  Herringbone,  ///< diagonal direction alternates from column to column (PhysBAM's cloth)
+  Alternating,  ///< diagonal direction alternates in a checkerboard (isotropic-looking)
+};
+
+SurfaceMesh make_grid(double width, double height, int nodes_u, int nodes_v, GridPattern pattern);
+SurfaceMesh make_box(const Eigen::Vector3d& size, int divisions);
+SurfaceMesh make_open_box(const Eigen::Vector3d& size, int divisions);
+SurfaceMesh make_open_cylinder(double radius, double height, int segments, int rings,
+                               bool bottom_cap);
+SurfaceMesh make_sphere(double radius, int subdivisions);
+/// Reads an OBJ file (tinyobjloader), triangulating polygons. Throws IoError.
+SurfaceMesh load_obj(const std::filesystem::path& file);
+
+/// The "mesh" variant schema (one option per generator, plus "obj").
+sdk::Schema mesh_schema();
+/// Builds the mesh described by a validated "mesh" object.
+SurfaceMesh make_mesh(const nlohmann::json& spec);
+
+/// The "transform" object schema: scale, then rotation about an axis, then translation.
+sdk::Schema transform_schema();
+Eigen::Affine3d transform_from_json(const nlohmann::json& spec);
+void apply_transform(const Eigen::Affine3d& transform, SurfaceMesh& mesh);
+
+}  // namespace shellflow::geometry

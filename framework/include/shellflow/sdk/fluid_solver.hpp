@@ -1,0 +1,63 @@
+#pragma once
+// FluidSolver: a grid fluid seen by the coupling loop (§4, §5.1, §6).
+
+#include <Eigen/Core>
+#include <array>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "shellflow/sdk/metrics.hpp"
+#include "shellflow/sdk/shell_surface.hpp"
+#include "shellflow/sdk/state_buffer.hpp"
+
+namespace shellflow::sdk {
+
+/// A read-only view of one scalar or vector grid field, for writers.
+struct FieldView {
+  enum class Location { Node, Cell };
+  std::string name;                 ///< "density", "temperature", "velocity", "phi", ...
+  Location location = Location::Cell;
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  ///< world position of sample (0,0,0)
+  double dx = 0.0;                  ///< sample spacing [m]
+  std::array<int, 3> dims{0, 0, 0}; ///< samples per axis
+  int components = 1;               ///< 1 (scalar) or 3 (vector, structure of arrays)
+  /// Component c of sample (i,j,k) is data[c][i + dims[0]*(j + dims[1]*k)].
+  std::array<const double*, 3> data{nullptr, nullptr, nullptr};
+};
+
+class FluidSolver {
+ public:
+  virtual ~FluidSolver() = default;
+
+  /// Largest step allowed by the CFL number `cfl` (and any other limit of the fluid).
+  virtual double stable_dt(double cfl) const = 0;
+
+  /// §4.1–4.2: compute u* (advection and body forces) knowing the shells at time n and
+  /// n+1; nodes swept by a shell are invalidated and refilled (§3).
+  virtual void advect(double t, double dt, ShellSet shells_n, ShellSet shells_np1) = 0;
+
+  /// §5.1 eq. (5)–(6): per-triangle forces [N] on the two-way shells from the coupling
+  /// pressure solve; `triangle_forces[s]` is sized by the runtime to shells[s]'s triangles.
+  virtual void coupling_forces(double dt, ShellSet shells,
+                               std::span<TriangleVectors> triangle_forces) = 0;
+
+  /// §4.3 eq. (3)–(4): make u* divergence free with Neumann faces across the shells,
+  /// whose constrained velocity comes from `effective_velocity[s]` (one row per node).
+  virtual void project(double dt, ShellSet shells,
+                       std::span<const Positions> effective_velocity) = 0;
+
+  virtual void save(StateWriter& out) const = 0;
+  virtual void restore(StateReader& in) = 0;
+
+  /// Fields for writers (VDB, previews); views stay valid until the next step.
+  virtual std::vector<FieldView> fields() const { return {}; }
+
+  /// Describes the first non-finite value found (field, index), or nothing.
+  virtual std::optional<std::string> find_nonfinite() const { return std::nullopt; }
+
+  virtual void report(Metrics& /*out*/) const {}
+};
+
+}  // namespace shellflow::sdk

@@ -1,0 +1,38 @@
+#pragma once
+// Writer: observes the run frame by frame and writes files under the run's folder.
+
+#include <filesystem>
+#include <string>
+
+#include "shellflow/sdk/shell_surface.hpp"
+
+namespace shellflow::sdk {
+
+class FluidSolver;
+
+/// Where and what a run writes; given to each writer before the first frame.
+struct RunInfo {
+  std::filesystem::path out_dir;  ///< out/<scene>/, exists and is empty of frames
+  std::string scene_name;
+  double fps = 24.0;
+};
+
+/// One frame as writers see it. `fluid` is null in a solids-only scene.
+struct FrameView {
+  int frame = 0;     ///< 0 is the initial state
+  double time = 0.0; ///< [s]
+  ShellSet shells;
+  const FluidSolver* fluid = nullptr;
+};
+
+class Writer {
+ public:
+  virtual ~Writer() = default;
+  virtual void begin(const RunInfo& /*info*/) {}
+  /// Must leave complete files (write to a temporary name, then rename) so that a run
+  /// stopped at any moment keeps readable frames.
+  virtual void write_frame(const FrameView& frame) = 0;
+  virtual void end() {}
+};
+
+}  // namespace shellflow::sdk
