@@ -23,6 +23,11 @@ class SolidSolver {
   /// Largest step advance() may be asked to take; +inf when the solver substeps itself.
   virtual double stable_dt() const { return std::numeric_limits<double>::infinity(); }
 
+  /// Surfaces of the other solids of the scene at the start of the next advance(), with
+  /// their node velocities, for collisions (a cloth draped over a kinematic cup). Called
+  /// before every advance(); a solver may extrapolate them linearly over the step.
+  virtual void set_colliders(ShellSet /*colliders*/) {}
+
   /// Advance from time t to t + dt. `triangle_forces[s]` holds one force [N] per
   /// triangle of surface s (§5.1: pressure jump × area along the normal); an empty
   /// span or an empty matrix means no fluid force. A rigid solver sums them into a
