@@ -2,7 +2,8 @@
 // Triangle meshes for shells: generators (plane/grid, box, open box, open cylinder,
 // sphere), OBJ loading, and the scene-file form shared by every solid plugin:
 //
-//   "mesh": {"type": "grid", "size": [2, 3], "nodes": [11, 16], "pattern": "herringbone"}
+//   "mesh": {"type": "grid", "width": 2, "height": 3, "nodes_u": 11, "nodes_v": 16,
+//            "pattern": "herringbone"}
 //   "mesh": {"type": "obj", "file": "meshes/cup.obj"}
 //   "transform": {"scale": 1, "rotate_axis": [0,1,0], "rotate_deg": 90, "translate": [2,4,3]}
 //
@@ -16,6 +17,7 @@
 #include <Eigen/Geometry>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "shellflow/sdk/schema.hpp"
 #include "shellflow/sdk/shell_surface.hpp"
@@ -45,12 +47,18 @@ SurfaceMesh load_obj(const std::filesystem::path& file);
 
 /// The "mesh" variant schema (one option per generator, plus "obj").
 sdk::Schema mesh_schema();
-/// Builds the mesh described by a validated "mesh" object.
-SurfaceMesh make_mesh(const nlohmann::json& spec);
+/// Builds the mesh described by a validated "mesh" object (absent fields take the schema's
+/// defaults). Throws ConfigError at `json_path` + "/<field>" for values the schema cannot
+/// check, IoError for an unreadable OBJ file. The generators themselves throw
+/// std::invalid_argument for out-of-range arguments.
+SurfaceMesh make_mesh(const nlohmann::json& spec, const std::string& json_path = "/mesh");
 
 /// The "transform" object schema: scale, then rotation about an axis, then translation.
 sdk::Schema transform_schema();
-Eigen::Affine3d transform_from_json(const nlohmann::json& spec);
+/// Scale s, axis a, angle θ, translation t → x ↦ t + R(a, θ) s x. Absent fields (or a null
+/// spec) take the defaults; a zero axis with θ ≠ 0 is a ConfigError at `json_path`.
+Eigen::Affine3d transform_from_json(const nlohmann::json& spec,
+                                    const std::string& json_path = "/transform");
 void apply_transform(const Eigen::Affine3d& transform, SurfaceMesh& mesh);
 
 }  // namespace shellflow::geometry
