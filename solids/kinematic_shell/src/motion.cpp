@@ -1,0 +1,112 @@
+#include "shellflow/kinematic_shell/motion.hpp"
+
+#include <Eigen/Geometry>
+#include <numbers>
+#include <vector>
+
+#include "shellflow/kinematic_shell/analytic_motion.hpp"
+#include "shellflow/kinematic_shell/keyframe_motion.hpp"
+#include "shellflow/sdk/error.hpp"
+#include "shellflow/sdk/json_helpers.hpp"
+
+namespace shellflow::kinematic_shell {
+
+namespace {
+
+using Json = nlohmann::json;
+
+/// spec[name], or the default the schema declares for it (`fields` of the object schema).
+Json field(const Json& spec, const sdk::Schema::Json& fields, const std::string& name) {
+  if (spec.contains(name)) return spec.at(name);
+  return Json::parse(fields.at(name).at("default").dump());
+}
+
+}  // namespace
+
+void StaticMotion::evaluate(double /*t*/, const sdk::Positions& rest, sdk::Positions& positions,
+                            sdk::Positions& velocities) const {
+  positions = rest;
+  velocities.setZero(rest.rows(), 3);
+}
+
+sdk::Schema motion_schema() {
+  using sdk::Schema;
+  const auto key =
+      Schema::object(
+          "one key pose, applied after \"transform\": rotation about the world "
+          "origin, then translation")
+          .field("time", Schema::number().unit("s").doc("time of the key; strictly increasing"))
+          .field("translate", Schema::vec3(0.0, 0.0, 0.0).unit("m").doc("translation"))
+          .field("rotate_axis", Schema::vec3(0.0, 1.0, 0.0).doc("rotation axis (not zero)"))
+          .field("rotate_deg", Schema::number(0.0).unit("deg").doc("rotation angle"));
+  return Schema::variant("type", "how the shell moves (left out: static)")
+      .option("static", Schema::object("the shell stays where \"transform\" put it"))
+      .option("keyframes",
+              Schema::object("rigid key poses; the pose holds before the first key and after "
+                             "the last")
+                  .field("interpolation",
+                         Schema::string("slerp")
+                             .one_of({"slerp", "linear"})
+                             .doc("slerp: rigid (rotation slerp the shorter way, translation "
+                                  "linear); linear: every node on a straight line between key "
+                                  "poses"))
+                  .field("keys", Schema::array(key).min_items(2).doc("at least two key poses")))
+      .option("analytic",
+              Schema::object("x(t) = c + v t + R(ω t)(x0 − c): constant velocity and spin")
+                  .field("velocity", Schema::vec3(0.0, 0.0, 0.0).unit("m/s").doc("v"))
+                  .field("angular_velocity",
+                         Schema::vec3(0.0, 0.0, 0.0).unit("rad/s").doc("ω (right-handed)"))
+                  .field("center", Schema::vec3(0.0, 0.0, 0.0)
+                                       .unit("m")
+                                       .doc("c: world point the rotation is about at t = 0")));
+}
+
+std::unique_ptr<Motion> make_motion(const nlohmann::json& spec, const std::string& json_path) {
+  if (spec.is_null()) return std::make_unique<StaticMotion>();
+  const auto type = spec.value("type", std::string("static"));
+  static const sdk::Schema::Json options = motion_schema().json().at("options");
+  if (!options.contains(type))
+    throw ConfigError(json_path + "/type",
+                      "unknown motion \"" + type + "\"; use static, keyframes or analytic");
+  const auto& fields = options.at(type).at("fields");
+  if (type == "static") return std::make_unique<StaticMotion>();
+  if (type == "analytic")
+    return std::make_unique<AnalyticMotion>(sdk::json_vec3(field(spec, fields, "velocity")),
+                                            sdk::json_vec3(field(spec, fields, "angular_velocity")),
+                                            sdk::json_vec3(field(spec, fields, "center")));
+
+  const auto interpolation_name = field(spec, fields, "interpolation").get<std::string>();
+  if (interpolation_name != "slerp" && interpolation_name != "linear")
+    throw ConfigError(json_path + "/interpolation", "use \"slerp\" or \"linear\"");
+  const auto& key_fields = fields.at("keys").at("items").at("fields");
+  if (!spec.contains("keys") || !spec.at("keys").is_array() || spec.at("keys").size() < 2)
+    throw ConfigError(json_path + "/keys", "keyframes need at least two keys");
+  std::vector<Keyframe> keys;
+  const auto& list = spec.at("keys");
+  for (size_t i = 0; i < list.size(); ++i) {
+    const std::string key_path = json_path + "/keys/" + std::to_string(i);
+    const auto& k = list.at(i);
+    if (!k.contains("time") || !k.at("time").is_number())
+      throw ConfigError(key_path + "/time", "every key needs a \"time\" [s]");
+    Keyframe key;
+    key.time = k.at("time").get<double>();
+    if (i > 0 && !(key.time > keys.back().time))
+      throw ConfigError(key_path + "/time",
+                        "key times must increase strictly: " + std::to_string(key.time) +
+                            " s follows " + std::to_string(keys.back().time) + " s");
+    key.translate = sdk::json_vec3(field(k, key_fields, "translate"));
+    const Eigen::Vector3d axis = sdk::json_vec3(field(k, key_fields, "rotate_axis"));
+    const double degrees = field(k, key_fields, "rotate_deg").get<double>();
+    if (degrees != 0.0) {
+      if (!(axis.norm() > 0))
+        throw ConfigError(key_path + "/rotate_axis", "the rotation axis must not be zero");
+      key.rotation = Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, axis.normalized());
+    }
+    keys.push_back(key);
+  }
+  return std::make_unique<KeyframeMotion>(std::move(keys), interpolation_name == "slerp"
+                                                               ? Interpolation::Slerp
+                                                               : Interpolation::Linear);
+}
+
+}  // namespace shellflow::kinematic_shell
