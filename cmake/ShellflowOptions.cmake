@@ -7,7 +7,7 @@ set(CMAKE_POSITION_INDEPENDENT_CODE ON)
 set(CMAKE_EXPORT_COMPILE_COMMANDS ON)
 
 # Plugins land in one folder of the build tree so the loader finds them there.
-set(SHELLFLOW_PLUGIN_OUTPUT_DIR ${PROJECT_BINARY_DIR}/plugins)
+set(SHELLFLOW_PLUGIN_OUTPUT_DIR ${PROJECT_BINARY_DIR}/lib/shellflow/plugins)
 set(SHELLFLOW_PLUGIN_INSTALL_DIR lib/shellflow/plugins)
 
 # The "Sanitize" build type: AddressSanitizer + UndefinedBehaviorSanitizer.

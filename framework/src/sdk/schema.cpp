@@ -90,6 +90,10 @@ Schema& Schema::optional() {
   m_json["optional"] = true;
   return *this;
 }
+Schema& Schema::default_value(const Json& value) {
+  m_json["default"] = value;
+  return *this;
+}
 Schema& Schema::field(const std::string& name, const Schema& schema) {
   if (kind() != "object") throw Error("Schema::field('" + name + "') called on a " + kind());
   m_json["fields"][name] = schema.json();

@@ -56,6 +56,8 @@ class Schema {
   Schema& one_of(std::initializer_list<std::string> choices);  ///< for strings
   Schema& min_items(int n);                                     ///< for arrays and lists
   Schema& optional();
+  /// A default for containers and lists (leaves take theirs in the constructor).
+  Schema& default_value(const Json& value);
   /// Object fields, in the order they are documented.
   Schema& field(const std::string& name, const Schema& schema);
   /// Variant options (each an object schema; the key field is implicit).

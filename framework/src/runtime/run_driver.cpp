@@ -1,0 +1,268 @@
+#include "shellflow/runtime/run_driver.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <memory>
+
+#include "shellflow/coupling/coupling_loop.hpp"
+#include "shellflow/runtime/metrics_csv.hpp"
+#include "shellflow/runtime/output_folder.hpp"
+#include "shellflow/runtime/plugin_instance.hpp"
+#include "shellflow/sdk/error.hpp"
+
+namespace shellflow::runtime {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+using coupling::Clock;
+using coupling::seconds_since;
+
+std::string to_string(RunStatus status) {
+  switch (status) {
+    case RunStatus::Completed:
+      return "completed";
+    case RunStatus::Interrupted:
+      return "interrupted";
+    case RunStatus::NumericalFailure:
+      return "numerical_failure";
+    case RunStatus::Failed:
+      return "failed";
+  }
+  return "unknown";
+}
+
+namespace {
+
+std::string now_iso8601() {
+  const std::time_t t = std::time(nullptr);
+  char buf[32];
+  std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+  return buf;
+}
+
+/// The first non-finite position or velocity among the shells, described.
+std::optional<std::string> find_nonfinite(sdk::ShellSet shells) {
+  for (const auto& s : shells) {
+    for (int i = 0; i < s.node_count(); ++i) {
+      if (!s.positions.row(i).allFinite())
+        return "shell '" + s.name + "' node " + std::to_string(i) + " position";
+      if (s.velocities.rows() > i && !s.velocities.row(i).allFinite())
+        return "shell '" + s.name + "' node " + std::to_string(i) + " velocity";
+    }
+  }
+  return std::nullopt;
+}
+
+/// What the run plan enables and why (DESIGN.md: skip what a scene does not need).
+Json run_plan(const Scene& scene, sdk::ShellSet shells) {
+  bool two_way = false;
+  for (const auto& s : shells) two_way = two_way || s.receives_fluid_forces;
+  const bool fluid = scene.fluid.has_value();
+  const bool solids = !scene.solids.empty();
+  Json plan = Json::array();
+  const auto add = [&](const char* module, bool on, const std::string& why) {
+    plan.push_back({{"module", module}, {"enabled", on}, {"why", why}});
+  };
+  add("fluid", fluid,
+      fluid ? "\"fluid\" names " + scene.fluid->library->name() : "the scene has no \"fluid\"");
+  add("solids", solids,
+      std::to_string(scene.solids.size()) + " entries in \"solids\", " +
+          std::to_string(shells.size()) + " shells");
+  add("shell_visibility", fluid && !shells.empty(),
+      fluid && !shells.empty()
+          ? "a fluid meets shells: ray casts and invalidation in the shell band"
+          : "no ray casts: " + std::string(fluid ? "no shells" : "no fluid"));
+  add("two_way_coupling", fluid && two_way,
+      !fluid    ? "no fluid"
+      : two_way ? "some shells receive fluid forces (§5.1)"
+                : "every shell is kinematic: one-way");
+  add("look_ahead", fluid && solids,
+      fluid && solids ? "solids run one step ahead of the fluid (§6)"
+                      : "not needed without both halves");
+  add("writers", !scene.outputs.empty(),
+      std::to_string(scene.outputs.size()) + " entries in \"outputs\"");
+  return plan;
+}
+
+}  // namespace
+
+RunSummary run_scene(const Scene& scene, const RunOptions& options) {
+  const auto wall_start = Clock::now();
+  const int frames = options.frames.value_or(scene.time.frames);
+  if (frames < 1) throw Error("--frames must be at least 1, got " + std::to_string(frames));
+  const double frame_dt = 1.0 / scene.time.fps;
+
+  // Everything that can fail on bad input happens before the output folder is touched.
+  std::optional<PluginInstance<sdk::FluidSolver>> fluid;
+  if (scene.fluid) fluid = create_fluid(scene, *scene.fluid);
+  std::vector<PluginInstance<sdk::SolidSolver>> solids;
+  for (const auto& spec : scene.solids) solids.push_back(create_solid(scene, spec));
+  std::vector<PluginInstance<sdk::Writer>> writers;
+  for (const auto& spec : scene.outputs) writers.push_back(create_writer(scene, spec));
+
+  std::vector<sdk::SolidSolver*> solid_ptrs;
+  for (auto& s : solids) solid_ptrs.push_back(s.get());
+  coupling::CouplingLoop loop(fluid ? fluid->get() : nullptr, solid_ptrs,
+                              {scene.time.cfl, scene.time.max_dt});
+  if (auto dup = loop.duplicate_surface_name())
+    throw SceneError(
+        scene.file.string(), "/solids",
+        "two shells are both named '" + *dup + "'; give the solids different \"name\"s");
+
+  RunSummary summary;
+  summary.out_dir = options.out.value_or(fs::path("out") / scene.name);
+  prepare_output_folder(summary.out_dir, options.overwrite);
+
+  Json run;
+  run["scene"] = scene.name;
+  run["scene_file"] = scene.file.string();
+  run["shellflow_version"] = SHELLFLOW_VERSION;
+  run["plugin_abi"] =
+      std::to_string(SHELLFLOW_ABI_MAJOR) + "." + std::to_string(SHELLFLOW_ABI_MINOR);
+  run["build_signature"] = runtime_build_signature();
+  run["started"] = now_iso8601();
+  run["status"] = "running";
+  run["frames_requested"] = frames;
+  run["fps"] = scene.time.fps;
+  Json plugins = Json::array();
+  const auto describe = [&](const std::string& role, const PluginSpec& spec) {
+    plugins.push_back({{"role", role},
+                       {"name", spec.instance_name},
+                       {"plugin", spec.library->name()},
+                       {"version", spec.library->version()},
+                       {"file", spec.library->file().string()}});
+  };
+  if (scene.fluid) describe("fluid", *scene.fluid);
+  for (const auto& s : scene.solids) describe("solid", s);
+  for (const auto& s : scene.outputs) describe("writer", s);
+  run["plugins"] = plugins;
+  run["config"] = scene.resolved;
+  const fs::path run_json = summary.out_dir / "run.json";
+  write_file_atomically(run_json, run.dump(2) + "\n");
+
+  MetricsCsv metrics(summary.out_dir / "metrics.csv");
+  const sdk::RunInfo info{summary.out_dir, scene.name, scene.time.fps};
+  for (auto& w : writers) w->begin(info);
+
+  double write_seconds = 0.0;
+  const auto write_frame = [&](int frame) {
+    const auto t0 = Clock::now();
+    const sdk::FrameView view{frame, loop.time(), loop.shells(), fluid ? fluid->get() : nullptr};
+    for (auto& w : writers) w->write_frame(view);
+    write_seconds += seconds_since(t0);
+    summary.frames_written += 1;
+    summary.last_frame = frame;
+  };
+
+  const auto finish_run_json = [&] {
+    summary.sim_time = loop.time();
+    summary.wall_seconds = seconds_since(wall_start);
+    run["status"] = to_string(summary.status);
+    if (!summary.message.empty()) run["message"] = summary.message;
+    run["finished"] = now_iso8601();
+    run["frames_written"] = summary.frames_written;
+    run["last_frame"] = summary.last_frame;
+    run["last_frame_time"] = summary.sim_time;
+    run["steps"] = summary.steps;
+    run["wall_seconds"] = summary.wall_seconds;
+    run["seconds_per_frame"] =
+        summary.last_frame > 0 ? summary.wall_seconds / summary.last_frame : 0.0;
+    run["metrics_columns"] = metrics.columns();
+    write_file_atomically(run_json, run.dump(2) + "\n");
+  };
+
+  try {
+    loop.start(0.0, frame_dt);
+    run["plan"] = run_plan(scene, loop.shells());
+    write_frame(0);
+
+    sdk::Metrics reported;
+    std::optional<std::string> stop_reason;
+    for (int frame = 1; frame <= frames && !stop_reason; ++frame) {
+      const auto frame_start = Clock::now();
+      const double frame_end = frame * frame_dt;
+      // Steps end exactly on the frame time (to round-off relative to it).
+      while (frame_end - loop.time() > 1e-12 * frame_end) {
+        const double remaining = frame_end - loop.time();
+        const double dt = loop.next_dt(remaining);
+        if (!(dt > 0.0) || !std::isfinite(dt))
+          throw NumericalError("step " + std::to_string(summary.steps + 1) +
+                               " at t = " + std::to_string(loop.time()) +
+                               " s: the solvers asked for a time step of " + std::to_string(dt) +
+                               " s");
+        const double after = remaining - dt > 1e-12 * frame_end ? remaining - dt : frame_dt;
+        const auto phases = loop.step(dt, after);
+        summary.steps += 1;
+        write_seconds = 0.0;
+
+        std::vector<std::pair<std::string, double>> row = {
+            {"step", double(summary.steps)}, {"frame", double(frame)},
+            {"time", loop.time()},           {"dt", dt},
+            {"t_advect", phases.advect},     {"t_coupling_forces", phases.coupling_forces},
+            {"t_solids", phases.solids},     {"t_project", phases.project}};
+        const auto collect = [&](const std::string& prefix, const auto& solver) {
+          reported.clear();
+          solver.report(reported);
+          for (const auto& [k, v] : reported.values()) row.emplace_back(prefix + "." + k, v);
+        };
+        if (fluid) collect(fluid->name(), **fluid);
+        for (auto& s : solids) collect(s.name(), *s);
+        metrics.write_row(row);
+
+        // Stability guard: stop at the first non-finite value, keeping the frames so far.
+        std::optional<std::string> bad = find_nonfinite(loop.shells());
+        if (!bad && fluid) bad = (*fluid)->find_nonfinite();
+        if (bad) {
+          summary.status = RunStatus::NumericalFailure;
+          summary.message =
+              "non-finite value in " + *bad + " at step " + std::to_string(summary.steps) +
+              " (t = " + std::to_string(loop.time()) + " s, during frame " + std::to_string(frame) +
+              "); the last good frame is frame " + std::to_string(summary.last_frame) + " in " +
+              summary.out_dir.string() +
+              ". Likely causes: a time step too large for the stiffness or the density "
+              "ratio (lower /time/max_dt), or a bad parameter";
+          stop_reason = summary.message;
+          break;
+        }
+        if (options.stop_requested && options.stop_requested->load()) {
+          summary.status = RunStatus::Interrupted;
+          write_frame(frame);  // the current state is good: keep it as a partial frame
+          summary.message = "interrupted by the user at step " + std::to_string(summary.steps) +
+                            " (t = " + std::to_string(loop.time()) + " s); frame " +
+                            std::to_string(frame) +
+                            " holds that state (partial frame), earlier frames are complete";
+          stop_reason = summary.message;
+          break;
+        }
+      }
+      if (stop_reason) break;
+      write_frame(frame);
+      if (options.on_progress) {
+        Progress p;
+        p.frame = frame;
+        p.frames = frames;
+        p.sim_time = loop.time();
+        p.seconds_per_frame = seconds_since(frame_start);
+        p.steps = summary.steps;
+        const double elapsed = seconds_since(wall_start);
+        p.eta_seconds = elapsed / frame * (frames - frame);
+        options.on_progress(p);
+      }
+    }
+    for (auto& w : writers) w->end();
+  } catch (const std::exception& e) {
+    // Leave a run.json that says how the run ended; the frames so far stay.
+    summary.status = RunStatus::Failed;
+    summary.message = std::string(e.what()) + " (the last complete frame is frame " +
+                      std::to_string(summary.last_frame) + ")";
+    finish_run_json();
+    throw;
+  }
+  finish_run_json();
+  return summary;
+}
+
+}  // namespace shellflow::runtime
