@@ -1,6 +1,7 @@
 #include "shellflow/kinematic_shell/motion.hpp"
 
 #include <Eigen/Geometry>
+#include <cstdio>
 #include <numbers>
 #include <vector>
 
@@ -19,6 +20,12 @@ using Json = nlohmann::json;
 Json field(const Json& spec, const sdk::Schema::Json& fields, const std::string& name) {
   if (spec.contains(name)) return spec.at(name);
   return Json::parse(fields.at(name).at("default").dump());
+}
+
+std::string seconds(double t) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g s", t);
+  return text;
 }
 
 }  // namespace
@@ -92,8 +99,8 @@ std::unique_ptr<Motion> make_motion(const nlohmann::json& spec, const std::strin
     key.time = k.at("time").get<double>();
     if (i > 0 && !(key.time > keys.back().time))
       throw ConfigError(key_path + "/time",
-                        "key times must increase strictly: " + std::to_string(key.time) +
-                            " s follows " + std::to_string(keys.back().time) + " s");
+                        "key times must increase strictly: " + seconds(key.time) + " follows " +
+                            seconds(keys.back().time));
     key.translate = sdk::json_vec3(field(k, key_fields, "translate"));
     const Eigen::Vector3d axis = sdk::json_vec3(field(k, key_fields, "rotate_axis"));
     const double degrees = field(k, key_fields, "rotate_deg").get<double>();
