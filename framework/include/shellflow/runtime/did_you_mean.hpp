@@ -8,7 +8,7 @@
 
 namespace shellflow::runtime {
 
-/// Levenshtein distance between two strings (case-sensitive).
+/// Edit distance (optimal string alignment: a swap of neighbours costs 1), case-sensitive.
 int edit_distance(std::string_view a, std::string_view b);
 
 /// The candidate closest to `word` if it is close enough to be a likely typo
