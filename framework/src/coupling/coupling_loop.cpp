@@ -74,10 +74,20 @@ void CouplingLoop::start(double t0, double time_to_first_frame) {
   m_shells_n = gather_shells();
   m_forces.assign(m_shells_n.size(), sdk::TriangleVectors());
   if (!m_fluid || m_solids.empty()) return;
-  // Put the solids one step ahead of the fluid, unforced (no pressure yet).
+  // Put the solids one step ahead of the fluid, unforced (no pressure yet), keeping
+  // their state at t0 in case the fluid's first step differs.
   m_ahead_dt = next_dt(time_to_first_frame);
-  m_solid_states_np1.assign(m_solids.size(), {});
+  save_solids();
   advance_solids(m_time, m_ahead_dt, {});
+}
+
+void CouplingLoop::save_solids() {
+  m_solid_states_np1.resize(m_solids.size());
+  for (size_t i = 0; i < m_solids.size(); ++i) {
+    m_solid_states_np1[i].clear();
+    sdk::StateWriter out(m_solid_states_np1[i]);
+    m_solids[i]->save(out);
+  }
 }
 
 PhaseTimes CouplingLoop::step(double dt, double time_to_frame_end_after_step) {
@@ -92,18 +102,14 @@ PhaseTimes CouplingLoop::step(double dt, double time_to_frame_end_after_step) {
   }
 
   if (!m_solids.empty() && std::abs(dt - m_ahead_dt) > 1e-12 * std::max(dt, m_ahead_dt)) {
-    // The solids were advanced with a step the fluid does not take: rewind, re-advance.
-    for (size_t i = 0; i < m_solids.size() && !m_solid_states_np1[i].empty(); ++i) {
+    // The solids looked ahead with a step the fluid does not take: rewind them to n+1
+    // and advance again, under the same forces, with the step actually taken.
+    for (size_t i = 0; i < m_solids.size(); ++i) {
       sdk::StateReader in(m_solid_states_np1[i]);
       m_solids[i]->restore(in);
     }
     const auto t0 = Clock::now();
-    if (m_solid_states_np1.front().empty()) {
-      // First step: the solids started at t0 unforced; redo that step with dt.
-      advance_solids(m_time, dt, {});
-    } else {
-      advance_solids(m_time, dt, m_forces);
-    }
+    advance_solids(m_time, dt, m_forces);
     times.solids += seconds_since(t0);
     m_ahead_dt = dt;
   }
@@ -127,11 +133,7 @@ PhaseTimes CouplingLoop::step(double dt, double time_to_frame_end_after_step) {
     const double dt_next =
         limit_dt(std::min(solids_stable_dt(), m_fluid->stable_dt(m_limits.cfl)),
                  time_to_frame_end_after_step > 0 ? time_to_frame_end_after_step : kInf);
-    for (size_t i = 0; i < m_solids.size(); ++i) {
-      m_solid_states_np1[i].clear();
-      sdk::StateWriter out(m_solid_states_np1[i]);
-      m_solids[i]->save(out);
-    }
+    save_solids();
     advance_solids(m_time + dt, dt_next, m_forces);
     m_ahead_dt = dt_next;
     const auto shells_np2 = gather_shells();

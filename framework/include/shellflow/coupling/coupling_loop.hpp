@@ -63,6 +63,7 @@ class CouplingLoop {
   std::vector<sdk::ShellSurface> gather_shells() const;
   void advance_solids(double t, double dt, std::span<const sdk::TriangleVectors> forces);
   double solids_stable_dt() const;
+  void save_solids();
   double limit_dt(double dt, double time_to_frame_end) const;
 
   sdk::FluidSolver* m_fluid;
@@ -76,7 +77,6 @@ class CouplingLoop {
   std::vector<sdk::TriangleVectors> m_forces;        ///< forces per surface, last step
 };
 
-/// Splits a flat list of surfaces' per-triangle forces back to each solid's surfaces.
 using Clock = std::chrono::steady_clock;
 inline double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();

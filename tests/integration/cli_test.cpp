@@ -1,0 +1,95 @@
+// The `shellflow` executable: exit codes, messages, and Ctrl-C during a run.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <thread>
+
+#include "scratch_folder.hpp"
+
+namespace shellflow {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+struct Result {
+  int exit_code;
+  std::string output;
+};
+
+class Cli : public shellflow::testing::ScratchFolder {
+ protected:
+  Result shellflow(const std::string& args) {
+    const std::string cmd = std::string(SHELLFLOW_CLI) + " " + args + " 2>&1";
+    FILE* pipe = popen(cmd.c_str(), "r");
+    std::string out;
+    char buf[4096];
+    while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
+    const int status = pclose(pipe);
+    return {WEXITSTATUS(status), out};
+  }
+  std::string scene(const std::string& body) { return write("scene.json", body).string(); }
+};
+
+TEST_F(Cli, ValidateAcceptsAGoodSceneAndNamesTheProblemInABadOne) {
+  const auto good = shellflow("validate " + scene(R"({"solids": [{"plugin": "template_solid"}]})"));
+  EXPECT_EQ(good.exit_code, 0) << good.output;
+  EXPECT_THAT(good.output, HasSubstr("valid scene"));
+  const auto bad = shellflow("validate " + scene(R"({"solids": [{"plugin": "template_solid", "nodes": 1}]})"));
+  EXPECT_EQ(bad.exit_code, 1);
+  EXPECT_THAT(bad.output, HasSubstr("scene.json: /solids/0/nodes: expected an integer >= 2"));
+}
+
+TEST_F(Cli, MissingSceneFileIsAnInputError) {
+  const auto r = shellflow("run " + (m_dir / "nope.json").string());
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("nope.json: no such file"));
+}
+
+TEST_F(Cli, PluginsListsTheTemplateWithItsParameters) {
+  const auto r = shellflow("plugins");
+  EXPECT_EQ(r.exit_code, 0);
+  EXPECT_THAT(r.output, HasSubstr("template_solid (solid plugin"));
+  EXPECT_THAT(r.output, HasSubstr("surface_density: a number > 0 [kg/m^2]"));
+}
+
+TEST_F(Cli, CtrlCEndsTheRunWithAReadableLastFrame) {
+  // Tiny steps so that the run is still going when the signal arrives.
+  const auto file = scene(R"({"time": {"frames": 1000, "max_dt": 1e-5},
+      "solids": [{"plugin": "template_solid", "name": "plate"}], "outputs": [{"plugin": "obj_writer"}]})");
+  const auto out = m_dir / "out";
+  const pid_t pid = fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    freopen("/dev/null", "w", stderr);
+    execl(SHELLFLOW_CLI, SHELLFLOW_CLI, "run", file.c_str(), "--out", out.c_str(), nullptr);
+    _exit(127);
+  }
+  // Wait until frame 1 exists, then interrupt.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  while (!fs::exists(out / "meshes" / "plate_0001.obj") && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  kill(pid, SIGINT);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "killed instead of stopping cleanly";
+  EXPECT_EQ(WEXITSTATUS(status), 130);
+  const auto run = nlohmann::json::parse(read(out / "run.json"));
+  EXPECT_EQ(run["status"], "interrupted");
+  const int last = run["last_frame"];
+  EXPECT_GE(last, 1);
+  EXPECT_LT(last, 1000);
+  char name[64];
+  std::snprintf(name, sizeof name, "plate_%04d.obj", last);
+  const auto last_obj = read(out / "meshes" / name);
+  EXPECT_THAT(last_obj, HasSubstr("\nf "));  // a complete mesh, not a torn file
+}
+
+}  // namespace
+}  // namespace shellflow
