@@ -43,9 +43,8 @@ int Bvh::build_recursive(std::span<const Aabb> boxes, std::span<const Eigen::Vec
   centre_box.extent().maxCoeff(&axis);
   const int half = count / 2;
   auto begin = m_order.begin() + first;
-  std::nth_element(begin, begin + half, begin + count, [&](int a, int b) {
-    return centres[a][axis] < centres[b][axis];
-  });
+  std::nth_element(begin, begin + half, begin + count,
+                   [&](int a, int b) { return centres[a][axis] < centres[b][axis]; });
   build_recursive(boxes, centres, first, half, depth + 1);
   const int right = build_recursive(boxes, centres, first + half, count - half, depth + 1);
   m_nodes[index].first_or_right = right;

@@ -30,8 +30,8 @@ std::array<double, 4> coplanarity_cubic(const Eigen::Vector3d& p, const Triangle
   const Eigen::Vector3d v1xv2 = v1.cross(v2);
   const Eigen::Vector3d a1xv2 = a1.cross(v2);
   const Eigen::Vector3d v1xa2 = v1.cross(a2);
-  return {a0.dot(a1xa2), v0.dot(a1xa2) + a0.dot(v1xa2 + a1xv2), a0.dot(v1xv2) + v0.dot(v1xa2 + a1xv2),
-          v0.dot(v1xv2)};
+  return {a0.dot(a1xa2), v0.dot(a1xa2) + a0.dot(v1xa2 + a1xv2),
+          a0.dot(v1xv2) + v0.dot(v1xa2 + a1xv2), v0.dot(v1xv2)};
 }
 
 std::optional<double> triangle_sweeps_point(const Eigen::Vector3d& p, const TriangleCorners& start,
@@ -40,8 +40,8 @@ std::optional<double> triangle_sweeps_point(const Eigen::Vector3d& p, const Tria
   double edge = 0.0;   // longest edge over both ends
   for (int i = 0; i < 3; ++i) {
     scale = std::max({scale, (start[i] - p).norm(), (end[i] - p).norm()});
-    edge = std::max({edge, (start[(i + 1) % 3] - start[i]).norm(),
-                     (end[(i + 1) % 3] - end[i]).norm()});
+    edge = std::max(
+        {edge, (start[(i + 1) % 3] - start[i]).norm(), (end[(i + 1) % 3] - end[i]).norm()});
   }
   const double floor3 = kRoundOffUlps * scale * scale * scale;
   const double floor2 = kRoundOffUlps * scale * scale;

@@ -13,8 +13,8 @@ namespace {
 constexpr double kDegenerateRatio = 1e-24;
 
 bool degenerate(const TriangleCorners& c, const Eigen::Vector3d& n) {
-  const double l2 = std::max({(c[1] - c[0]).squaredNorm(), (c[2] - c[1]).squaredNorm(),
-                              (c[0] - c[2]).squaredNorm()});
+  const double l2 = std::max(
+      {(c[1] - c[0]).squaredNorm(), (c[2] - c[1]).squaredNorm(), (c[0] - c[2]).squaredNorm()});
   return !(n.squaredNorm() > kDegenerateRatio * l2 * l2);
 }
 

@@ -16,9 +16,8 @@ bool WedgeCaster::inside(const Eigen::Vector3d& p, double epsilon) const {
   const Aabb query(p.array() - r, p.array() + r);
   for (const TriangleBvh* shell : m_shells) {
     const TriangleMesh& mesh = shell->mesh();
-    const bool found = shell->triangles_overlapping(query, [&](int t) {
-      return point_triangle_distance2(p, mesh.corners(t)) <= r2;
-    });
+    const bool found = shell->triangles_overlapping(
+        query, [&](int t) { return point_triangle_distance2(p, mesh.corners(t)) <= r2; });
     if (found) return true;
   }
   return false;

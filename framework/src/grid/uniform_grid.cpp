@@ -16,11 +16,16 @@ UniformGrid::UniformGrid(const Eigen::Vector3d& origin, double dx, const Eigen::
 
 Eigen::Vector3d UniformGrid::stagger(Location location) {
   switch (location) {
-    case Location::Node: return {0.0, 0.0, 0.0};
-    case Location::Cell: return {0.5, 0.5, 0.5};
-    case Location::FaceX: return {0.0, 0.5, 0.5};
-    case Location::FaceY: return {0.5, 0.0, 0.5};
-    case Location::FaceZ: return {0.5, 0.5, 0.0};
+    case Location::Node:
+      return {0.0, 0.0, 0.0};
+    case Location::Cell:
+      return {0.5, 0.5, 0.5};
+    case Location::FaceX:
+      return {0.0, 0.5, 0.5};
+    case Location::FaceY:
+      return {0.5, 0.0, 0.5};
+    case Location::FaceZ:
+      return {0.5, 0.5, 0.0};
   }
   return {0.0, 0.0, 0.0};
 }

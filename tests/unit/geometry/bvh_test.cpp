@@ -27,9 +27,9 @@ void expect_queries_match_brute_force(const TriangleBvh& bvh, std::uint64_t seed
   const Aabb bounds = mesh.bounds();
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const auto random_point = [&] {
-    return Eigen::Vector3d(bounds.lower.array() +
-                           Eigen::Array3d(u(rng), u(rng), u(rng)) * (bounds.extent().array() + 0.2) -
-                           0.1);
+    return Eigen::Vector3d(
+        bounds.lower.array() +
+        Eigen::Array3d(u(rng), u(rng), u(rng)) * (bounds.extent().array() + 0.2) - 0.1);
   };
   for (int q = 0; q < 200; ++q) {
     // Box query.
@@ -132,7 +132,7 @@ TEST(Aabb, SegmentTestHandlesAxisParallelSegments) {
   EXPECT_TRUE(box.overlaps_segment({0.5, 0.5, -1}, {0.5, 0.5, 2}, 0.0));
   EXPECT_FALSE(box.overlaps_segment({1.5, 0.5, -1}, {1.5, 0.5, 2}, 0.0));
   EXPECT_TRUE(box.overlaps_segment({1.5, 0.5, -1}, {1.5, 0.5, 2}, 0.6));
-  EXPECT_FALSE(box.overlaps_segment({-2, -2, 0.5}, {-1, -1, 0.5}, 0.0));  // stops short
+  EXPECT_FALSE(box.overlaps_segment({-2, -2, 0.5}, {-1, -1, 0.5}, 0.0));     // stops short
   EXPECT_TRUE(box.overlaps_segment({0.2, 0.2, 0.2}, {0.2, 0.2, 0.2}, 0.0));  // a point
 }
 

@@ -36,7 +36,9 @@ struct Cut {
     view = TriangleMesh(sheet.positions, sheet.triangles);
     bvh = TriangleBvh(view);
   }
-  static double side(const Eigen::Vector3d& x) { return x.z() - (0.4513 + 0.1 * x.x() + 0.05 * x.y()); }
+  static double side(const Eigen::Vector3d& x) {
+    return x.z() - (0.4513 + 0.1 * x.x() + 0.05 * x.y());
+  }
 };
 
 template <class T>
@@ -127,18 +129,20 @@ TEST(GaussJacobiRefill, WithoutVisibilityTheSidesMix) {
   band.add(cut.view, 2.0 * kDx);
   for (const std::int64_t i : band.samples(location)) valid[i] = 0;
   const GaussJacobiRefill refill(cut.grid, location);
-  refill.run<double>(values, valid, band.samples(location),
-                     [](std::int64_t, std::int64_t) { return true; },
-                     [](std::int64_t, std::int64_t) { return 0.0; });
+  refill.run<double>(
+      values, valid, band.samples(location), [](std::int64_t, std::int64_t) { return true; },
+      [](std::int64_t, std::int64_t) { return 0.0; });
   int mixed = 0;
-  for (const std::int64_t i : band.samples(location)) mixed += std::abs(std::abs(values[i]) - 1.0) > 1e-3;
+  for (const std::int64_t i : band.samples(location))
+    mixed += std::abs(std::abs(values[i]) - 1.0) > 1e-3;
   EXPECT_GT(mixed, 10);
 }
 
 // A closed box holds only invalid nodes: none has a valid visible neighbour, so the
 // object value fills them (here the object velocity (0, 0, 2)), and outside keeps its value.
 TEST(GaussJacobiRefill, EnclosedPocketTakesObjectValues) {
-  const grid::UniformGrid grid(Eigen::Vector3d::Constant(-0.5), 1.0 / 16.0, Eigen::Vector3i::Constant(16));
+  const grid::UniformGrid grid(Eigen::Vector3d::Constant(-0.5), 1.0 / 16.0,
+                               Eigen::Vector3i::Constant(16));
   const test::Mesh box = test::make_closed_box(Eigen::Vector3d::Constant(0.53), 4);
   const TriangleMesh view(box.positions, box.triangles);
   const TriangleBvh bvh(view);

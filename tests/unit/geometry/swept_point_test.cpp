@@ -84,8 +84,8 @@ TEST(SweptPoint, GrazingPass) {
 TEST(SweptPoint, MovingParallelToItself) {
   // In its own plane through the point: the triangle slides over it (f ≡ 0).
   const Eigen::Vector3d p(0.0, 0.0, 0.0);
-  const auto in_plane =
-      triangle_sweeps_point(p, translate(kUnit, {-5, 0, 0}), translate(kUnit, {5, 0, 0}), kTolerance);
+  const auto in_plane = triangle_sweeps_point(p, translate(kUnit, {-5, 0, 0}),
+                                              translate(kUnit, {5, 0, 0}), kTolerance);
   ASSERT_TRUE(in_plane.has_value());
   // Corner x = -1 .. edge x + y = 1 at y = 0: the point enters when the edge x + y = 1
   // (shifted by -5 + 10 t) reaches x = 0: 1 - 5 + 10 t = 0, t = 0.4.
@@ -104,7 +104,8 @@ TEST(SweptPoint, DegenerateZeroAreaTriangle) {
   // A "triangle" collapsed onto a segment from (-1, 0) to (1, 0) sweeping z: -1 → 1.
   const TriangleCorners line = {Eigen::Vector3d(-1, 0, -1), Eigen::Vector3d(1, 0, -1),
                                 Eigen::Vector3d(0, 0, -1)};
-  const auto t = triangle_sweeps_point({0.3, 0.0, 0.0}, line, translate(line, {0, 0, 2}), kTolerance);
+  const auto t =
+      triangle_sweeps_point({0.3, 0.0, 0.0}, line, translate(line, {0, 0, 2}), kTolerance);
   ASSERT_TRUE(t.has_value());
   EXPECT_NEAR(*t, 0.5, 1e-9);
   EXPECT_FALSE(triangle_sweeps_point({0.3, 1e-3, 0.0}, line, translate(line, {0, 0, 2}), kTolerance)

@@ -18,7 +18,8 @@ struct Mesh {
   sdk::Triangles triangles;
 };
 
-inline Mesh from_lists(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3i>& t) {
+inline Mesh from_lists(const std::vector<Eigen::Vector3d>& x,
+                       const std::vector<Eigen::Vector3i>& t) {
   Mesh m;
   m.positions.resize(static_cast<int>(x.size()), 3);
   m.triangles.resize(static_cast<int>(t.size()), 3);

@@ -42,7 +42,8 @@ TEST(TriangleDistance, DegenerateTriangleIsItsEdges) {
 
 TEST(TriangleDistance, SegmentKnownAnswers) {
   // Crossing the face: distance 0 at s = 0.5.
-  const SegmentTriangleClosest cross = closest_segment_triangle({0.2, 0.2, -1}, {0.2, 0.2, 1}, kTri);
+  const SegmentTriangleClosest cross =
+      closest_segment_triangle({0.2, 0.2, -1}, {0.2, 0.2, 1}, kTri);
   EXPECT_NEAR(cross.distance2, 0.0, kRoundOff);
   EXPECT_NEAR(cross.s, 0.5, kRoundOff);
   // Parallel above the face at height 0.3.

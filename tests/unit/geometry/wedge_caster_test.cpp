@@ -44,8 +44,12 @@ int false_visibles_closed(const Mesh& mesh, double inner, double outer, int segm
     const Eigen::Vector3d a = inner * std::cbrt(unit(rng)) * random_unit(rng);
     Eigen::Vector3d target;
     switch (s % 4) {
-      case 0: target = random_unit(rng); break;
-      case 1: target = view.node(pick_node(rng)); break;
+      case 0:
+        target = random_unit(rng);
+        break;
+      case 1:
+        target = view.node(pick_node(rng));
+        break;
       case 2: {
         const TriangleCorners c = view.corners(pick_tri(rng));
         const int e = s / 4 % 3;
@@ -107,7 +111,7 @@ TEST(WedgeCaster, NoFalseVisibleAlongBoxFacesAndEdges) {
       Eigen::Vector3d b;
       if (s % 2 == 0) {
         // Under the top face (z = 0.5 - depth), running in +x out through x = 0.5.
-        a = {in(rng) * 0.9, in(rng), 0.5 - depth(rng)};
+        a = {in(rng)*0.9, in(rng), 0.5 - depth(rng)};
         if (s % 4 == 0) a.y() = -0.5 + line(rng) / double(divisions);  // on a grid line
         b = a + Eigen::Vector3d(2.0, 0.0, 0.0);
       } else {
@@ -184,10 +188,12 @@ TEST(WedgeCaster, ThicknessIsHalfEpsilonEachSide) {
   const TriangleBvh bvh(view);
   const WedgeCaster caster(bvh, kEpsilon);
   for (const double sign : {1.0, -1.0}) {
-    const Eigen::Vector3d a0(0.1, 0.37, sign * 0.51 * kEpsilon), b0(0.9, 0.63, sign * 0.51 * kEpsilon);
+    const Eigen::Vector3d a0(0.1, 0.37, sign * 0.51 * kEpsilon),
+        b0(0.9, 0.63, sign * 0.51 * kEpsilon);
     EXPECT_EQ(caster.classify(a0, b0), Visibility::Visible);
     EXPECT_NE(caster.classify(a0, b0, caster.semi_lagrangian_epsilon()), Visibility::Visible);
-    const Eigen::Vector3d a1(0.1, 0.37, sign * 0.49 * kEpsilon), b1(0.9, 0.63, sign * 0.49 * kEpsilon);
+    const Eigen::Vector3d a1(0.1, 0.37, sign * 0.49 * kEpsilon),
+        b1(0.9, 0.63, sign * 0.49 * kEpsilon);
     EXPECT_NE(caster.classify(a1, b1), Visibility::Visible);
   }
   // Beyond the sheet's edge, the rounded edge is ε/2 too: passing 0.51ε past x = 1 is

@@ -31,11 +31,16 @@ TEST(UniformGrid, CountsAndLayout) {
 
 TEST(UniformGrid, Positions) {
   // Exact in binary: dx = 1/4 and small integers.
-  EXPECT_EQ(kGrid.position(Location::Node, Eigen::Vector3i(1, 0, 2)), Eigen::Vector3d(-0.75, 0.5, 2.5));
-  EXPECT_EQ(kGrid.position(Location::Cell, Eigen::Vector3i(0, 0, 0)), Eigen::Vector3d(-0.875, 0.625, 2.125));
-  EXPECT_EQ(kGrid.position(Location::FaceX, Eigen::Vector3i(0, 0, 0)), Eigen::Vector3d(-1.0, 0.625, 2.125));
-  EXPECT_EQ(kGrid.position(Location::FaceY, Eigen::Vector3i(0, 0, 0)), Eigen::Vector3d(-0.875, 0.5, 2.125));
-  EXPECT_EQ(kGrid.position(Location::FaceZ, Eigen::Vector3i(0, 0, 0)), Eigen::Vector3d(-0.875, 0.625, 2.0));
+  EXPECT_EQ(kGrid.position(Location::Node, Eigen::Vector3i(1, 0, 2)),
+            Eigen::Vector3d(-0.75, 0.5, 2.5));
+  EXPECT_EQ(kGrid.position(Location::Cell, Eigen::Vector3i(0, 0, 0)),
+            Eigen::Vector3d(-0.875, 0.625, 2.125));
+  EXPECT_EQ(kGrid.position(Location::FaceX, Eigen::Vector3i(0, 0, 0)),
+            Eigen::Vector3d(-1.0, 0.625, 2.125));
+  EXPECT_EQ(kGrid.position(Location::FaceY, Eigen::Vector3i(0, 0, 0)),
+            Eigen::Vector3d(-0.875, 0.5, 2.125));
+  EXPECT_EQ(kGrid.position(Location::FaceZ, Eigen::Vector3i(0, 0, 0)),
+            Eigen::Vector3d(-0.875, 0.625, 2.0));
   EXPECT_EQ(kGrid.upper(), Eigen::Vector3d(0.25, 1.25, 3.0));
 }
 
@@ -59,8 +64,10 @@ TEST(UniformGrid, SamplesInBoxMatchBruteForce) {
     }
   }
   // Far outside: empty, no overflow.
-  EXPECT_TRUE(kGrid.samples_in_box(Location::Node, Eigen::Vector3d::Constant(1e30),
-                                   Eigen::Vector3d::Constant(2e30)).empty());
+  EXPECT_TRUE(kGrid
+                  .samples_in_box(Location::Node, Eigen::Vector3d::Constant(1e30),
+                                  Eigen::Vector3d::Constant(2e30))
+                  .empty());
 }
 
 }  // namespace

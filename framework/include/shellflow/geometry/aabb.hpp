@@ -27,9 +27,7 @@ struct Aabb {
     upper = upper.cwiseMax(b.upper);
   }
   /// Grows the box by `r` on every side.
-  Aabb inflated(double r) const {
-    return {lower.array() - r, upper.array() + r};
-  }
+  Aabb inflated(double r) const { return {lower.array() - r, upper.array() + r}; }
   Eigen::Vector3d center() const { return 0.5 * (lower + upper); }
   Eigen::Vector3d extent() const { return upper - lower; }
   /// Surface area; 0 for the empty box. Used as the refit quality measure (SAH cost).
@@ -46,8 +44,7 @@ struct Aabb {
   }
   /// Squared distance from `p` to the box (0 inside).
   double squared_distance(const Eigen::Vector3d& p) const {
-    const Eigen::Vector3d d =
-        (lower - p).cwiseMax(Eigen::Vector3d::Zero()).cwiseMax(p - upper);
+    const Eigen::Vector3d d = (lower - p).cwiseMax(Eigen::Vector3d::Zero()).cwiseMax(p - upper);
     return d.squaredNorm();
   }
 
@@ -76,6 +73,44 @@ struct Aabb {
     }
     return true;
   }
+};
+
+/// Aabb::overlaps_segment with the per-segment work (inverse direction) done once, for
+/// testing one segment against many boxes in a hierarchy traversal. Same answers.
+class SegmentBoxQuery {
+ public:
+  SegmentBoxQuery(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r) : m_a(a), m_r(r) {
+    for (int k = 0; k < 3; ++k) {
+      const double d = b[k] - a[k];
+      m_moving[k] = d != 0.0;
+      m_inv[k] = m_moving[k] ? 1.0 / d : 0.0;
+    }
+  }
+  bool operator()(const Aabb& box) const {
+    double s0 = 0.0;
+    double s1 = 1.0;
+    for (int k = 0; k < 3; ++k) {
+      const double lo = box.lower[k] - m_r;
+      const double hi = box.upper[k] + m_r;
+      if (!m_moving[k]) {
+        if (m_a[k] < lo || m_a[k] > hi) return false;
+        continue;
+      }
+      double t0 = (lo - m_a[k]) * m_inv[k];
+      double t1 = (hi - m_a[k]) * m_inv[k];
+      if (t0 > t1) std::swap(t0, t1);
+      s0 = t0 > s0 ? t0 : s0;
+      s1 = t1 < s1 ? t1 : s1;
+      if (s0 > s1) return false;
+    }
+    return true;
+  }
+
+ private:
+  Eigen::Vector3d m_a;
+  Eigen::Vector3d m_inv;
+  bool m_moving[3];
+  double m_r;
 };
 
 }  // namespace shellflow::geometry

@@ -26,18 +26,17 @@
 namespace shellflow::geometry {
 
 struct RefillStats {
-  int neighbour_iterations = 0;       ///< Gauss–Jacobi sweeps over valid visible neighbours
-  int object_iterations = 0;          ///< sweeps that also used object values
-  std::int64_t from_neighbours = 0;   ///< samples filled from valid visible neighbours only
-  std::int64_t from_object = 0;       ///< samples filled in the object-value sweeps
-  std::int64_t isolated = 0;          ///< samples left after both, set to object_value(i, i)
+  int neighbour_iterations = 0;      ///< Gauss–Jacobi sweeps over valid visible neighbours
+  int object_iterations = 0;         ///< sweeps that also used object values
+  std::int64_t from_neighbours = 0;  ///< samples filled from valid visible neighbours only
+  std::int64_t from_object = 0;      ///< samples filled in the object-value sweeps
+  std::int64_t isolated = 0;         ///< samples left after both, set to object_value(i, i)
 };
 
 class GaussJacobiRefill {
  public:
   /// `max_iterations` bounds each of the two phases (a sweep fills one more layer).
-  GaussJacobiRefill(const grid::UniformGrid& grid, grid::Location location,
-                    int max_iterations = 32)
+  GaussJacobiRefill(const grid::UniformGrid& grid, grid::Location location, int max_iterations = 32)
       : m_grid(grid), m_location(location), m_max_iterations(max_iterations) {}
 
   /// Refills `values` where `valid` is 0, looking only at the samples listed in

@@ -14,8 +14,8 @@ namespace shellflow::geometry {
 
 /// The closest surface point to a query point.
 struct SurfacePoint {
-  int triangle = -1;            ///< -1 when the mesh is empty
-  double distance2 = 0.0;       ///< squared distance
+  int triangle = -1;       ///< -1 when the mesh is empty
+  double distance2 = 0.0;  ///< squared distance
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();
 };
@@ -27,8 +27,7 @@ class TriangleBvh {
   static constexpr double kDefaultMaxDegradation = 2.0;
 
   TriangleBvh() = default;
-  explicit TriangleBvh(const TriangleMesh& mesh,
-                       double max_degradation = kDefaultMaxDegradation);
+  explicit TriangleBvh(const TriangleMesh& mesh, double max_degradation = kDefaultMaxDegradation);
 
   /// Takes the mesh at new positions (same topology): refit, rebuild if degraded.
   /// Returns true when it rebuilt.
@@ -43,8 +42,8 @@ class TriangleBvh {
   template <class Visit>
   bool triangles_near_segment(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r,
                               Visit&& visit) const {
-    return m_bvh.traverse(
-        m_boxes, [&](const Aabb& box) { return box.overlaps_segment(a, b, r); }, visit);
+    const SegmentBoxQuery query(a, b, r);
+    return m_bvh.traverse(m_boxes, query, visit);
   }
   /// Calls visit(triangle) for each triangle whose box overlaps `box`; visit returns
   /// true to stop. Returns true when stopped.
