@@ -11,6 +11,7 @@
 #include <string>
 #include <utility>
 
+#include "shell_plane_collision.hpp"
 #include "shellflow/sdk/error.hpp"
 
 // Contact geometry: GImpact (btGImpactMeshShape), not a convex decomposition.
@@ -22,8 +23,8 @@
 //  - Costs: triangle–triangle tests between overlapping bodies (bounded by GImpact's
 //    box trees), contacts found only within the margin (a thin shell moving more than
 //    its margin plus its size in one substep can tunnel: keep the substep small), and
-//    vertex-only contacts against the ground plane (btGImpactCollisionAlgorithm's
-//    trimesh-vs-plane test), which is exact for flat faces resting on it.
+//    vertex-only contacts against the ground plane (ShellPlaneCollision), which is exact
+//    for flat faces resting on it.
 
 namespace shellflow::bullet_rigid {
 
@@ -107,6 +108,7 @@ struct RigidShellWorld::Impl {
   std::unique_ptr<btDefaultCollisionConfiguration> configuration;
   std::unique_ptr<btStaticPlaneShape> ground_shape;
   std::unique_ptr<btRigidBody> ground;
+  ShellPlaneCollision::CreateFunc shell_plane;  // outlives every dispatcher below
   // Rebuilt by every advance() (see the header): declared last, destroyed first.
   std::unique_ptr<btDbvtBroadphase> broadphase;
   std::unique_ptr<btCollisionDispatcher> dispatcher;
@@ -132,6 +134,10 @@ struct RigidShellWorld::Impl {
     broadphase = std::make_unique<btDbvtBroadphase>();
     dispatcher = std::make_unique<btCollisionDispatcher>(configuration.get());
     btGImpactCollisionAlgorithm::registerAlgorithm(dispatcher.get());
+    dispatcher->registerCollisionCreateFunc(GIMPACT_SHAPE_PROXYTYPE, STATIC_PLANE_PROXYTYPE,
+                                            &shell_plane);
+    dispatcher->registerCollisionCreateFunc(STATIC_PLANE_PROXYTYPE, GIMPACT_SHAPE_PROXYTYPE,
+                                            &shell_plane);
     solver = std::make_unique<btSequentialImpulseConstraintSolver>();
     world = std::make_unique<btDiscreteDynamicsWorld>(dispatcher.get(), broadphase.get(),
                                                       solver.get(), configuration.get());

@@ -126,10 +126,10 @@ TEST(BulletRigidSolver, TriangleForcesBecomeForceAndTorqueAboutTheMassCentre) {
     EXPECT_LT((state.angular_velocity - expected).norm(), 1e-12 * expected.norm());
     EXPECT_LT(state.velocity.norm(), 1e-15);
     // For a thin spherical shell that is α = τ / (2/3 m r²) up to the mesh's O(h²)
-    // inertia error (0.4% at icosphere level 2, measured).
+    // inertia error: 2.3% at icosphere level 2 (measured; 3.6e-4 at level 5).
     const double m = fresh.world().mass_properties(0).mass;
     const Eigen::Vector3d sphere_shell = dt * torque / (2.0 / 3.0 * m * 0.3 * 0.3);
-    EXPECT_LT((state.angular_velocity - sphere_shell).norm(), 1e-2 * sphere_shell.norm());
+    EXPECT_LT((state.angular_velocity - sphere_shell).norm(), 3e-2 * sphere_shell.norm());
   }
 }
 

@@ -233,7 +233,8 @@ TEST(RigidShellWorld, KinematicPlateLiftsABoxResting) {
 
 TEST(RigidShellWorld, BoxShellSettlesOnTheGroundAtRest) {
   // A closed box shell dropped tumbling onto the ground (friction 0.9, restitution 0.2)
-  // comes to rest on a face within 3 s.
+  // comes to rest on a face: over the third second (after N = 48 frames of 1/24 s) every
+  // frame-end speed stays below the bound.
   RigidWorldSettings s;
   s.max_substep = kSubstep;
   s.ground = GroundPlane{};
@@ -242,22 +243,29 @@ TEST(RigidShellWorld, BoxShellSettlesOnTheGroundAtRest) {
   box.angular_velocity = Eigen::Vector3d(1.0, 0.5, -2.0);
   RigidShellWorld world(s, {box});
   double t = 0.0;
-  run_frames(world, t, 72);  // 3 s
+  run_frames(world, t, 48);  // 2 s: landed, bounced, tipped onto a face
+  double max_speed = 0.0, max_spin = 0.0;
+  for (int f = 0; f < 24; ++f) {
+    run_frames(world, t, 1);
+    max_speed = std::max(max_speed, world.state(0).velocity.norm());
+    max_spin = std::max(max_spin, world.state(0).angular_velocity.norm());
+  }
+  // Bound 1e-4 m/s and 1e-4 rad/s: the measured residual of the sequential-impulse solver
+  // (10 iterations, contacts rebuilt every frame) is 1.9e-5 m/s and 1.6e-5 rad/s; the box
+  // was moving at ~3 m/s on impact. Without speculative ground contacts (Bullet's own
+  // GImpact–plane test) it is 4e-2 m/s = g·h and this test fails.
+  EXPECT_LT(max_speed, 1e-4);
+  EXPECT_LT(max_spin, 1e-4);
   const auto state = world.state(0);
-  // Bounds: a resting body under sequential impulses keeps a residual velocity of order
-  // g·h·(solver error) ≈ 1e-3 m/s at h = 1/240 s; measured ≈ RESIDUAL (see report).
-  EXPECT_LT(state.velocity.norm(), 1e-2);
-  EXPECT_LT(state.angular_velocity.norm(), 5e-2);
   // On a face: one principal axis is vertical to within 1°.
   const Eigen::Vector3d up(0, 1, 0);
   const double alignment = (state.rotation.transpose() * up).cwiseAbs().maxCoeff();
   EXPECT_GT(alignment, std::cos(std::numbers::pi / 180.0));
-  // Resting on the contact skin: the lowest node sits at the margin above the plane,
-  // within the solver's penetration slop (Bullet's linear slop and split-impulse ERP
-  // leave a few millimetres).
+  // Resting on the contact skin: the lowest node sits one margin above the plane (to
+  // 1e-5 m: Bullet's split-impulse position correction leaves micrometres).
   sdk::Positions x;
   world.node_positions(0, x);
-  EXPECT_NEAR(x.col(1).minCoeff(), s.margin, 5e-3);
+  EXPECT_NEAR(x.col(1).minCoeff(), s.margin, 1e-5);
   EXPECT_GT(world.contact_count(), 0);
 }
 
