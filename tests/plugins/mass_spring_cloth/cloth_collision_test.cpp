@@ -1,0 +1,158 @@
+// Contact of the mass-spring cloth: analytic colliders, other solids' surfaces, and
+// self-collision (Bridson et al. 2002 proximity + continuous collision + impact zones).
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+
+#include "cloth_test_scenes.hpp"
+#include "mass_spring_cloth/contact_geometry.hpp"
+
+namespace shellflow::cloth {
+namespace {
+
+TEST(ClothContact, CoplanarityTimesFindACrossing) {
+  // A point falling through the triangle z = 0 from z = 1 to z = -1 crosses at t = 1/2.
+  const std::array<Eigen::Vector3d, 4> x{Eigen::Vector3d(0.2, 0.2, 1.0), Eigen::Vector3d(0, 0, 0),
+                                         Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0)};
+  const std::array<Eigen::Vector3d, 4> d{Eigen::Vector3d(0, 0, -2), Eigen::Vector3d::Zero(),
+                                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
+  std::array<double, 3> times;
+  ASSERT_EQ(coplanarity_times(x, d, times), 1);
+  EXPECT_NEAR(times[0], 0.5, 1e-10);  // bisection to 1e-12 in t
+}
+
+TEST(ClothContact, DrapeOnSphereDoesNotPenetrate) {
+  // A 1 m square, 21 x 21 nodes, dropped flat from 0.1 m above a 0.3 m sphere.
+  auto mesh = testing::hanging_grid(1.0, 1.0, 21, 21);
+  geometry::apply_transform(Eigen::Affine3d(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX())) *
+                                Eigen::Affine3d::Identity(),
+                            mesh);
+  for (int k = 0; k < mesh.positions.rows(); ++k) mesh.positions(k, 1) += 0.4;
+  ClothMaterial material;
+  material.bending_stiffness = 1e-5;
+  SolverSettings solver;
+  solver.max_substep = 1.0 / 48.0;
+  CollisionSettings collision;
+  collision.thickness = 0.005;
+  auto sim = testing::make_simulator(mesh, material, solver, collision);
+  const double R = 0.3;
+  sim->add_collider(AnalyticCollider::sphere(Eigen::Vector3d::Zero(), R));
+  double lowest_corner = 1.0;
+  int contacts = 0;
+  for (int s = 0; s < 36; ++s) {
+    sim->advance(s / 24.0, 1.0 / 24.0);
+    contacts += sim->statistics().collider_contacts;
+    for (int k = 0; k < sim->node_count(); ++k)
+      // No node inside the sphere, ever (the contact keeps nodes at the thickness).
+      ASSERT_GT(sim->positions().segment<3>(3 * k).norm(), R) << "node " << k << " step " << s;
+  }
+  for (int k : {0, 20, 420, 440}) lowest_corner = std::min(lowest_corner, sim->positions()[3 * k + 1]);
+  // It draped: the corners hang well below the top of the sphere.
+  EXPECT_LT(lowest_corner, 0.0);
+  EXPECT_GT(contacts, 0);
+}
+
+// Lower half of a strip lies at y = 0 and is pinned; the upper half is folded back over it
+// at y = gap and thrown down at 3 m/s: it moves 12.5 cm per frame, six times the gap.
+struct FoldedCloth {
+  std::unique_ptr<ClothSimulator> sim;
+  int nu = 0, nv = 0, fold = 0;
+};
+
+FoldedCloth folded_cloth(bool self_collision) {
+  FoldedCloth f;
+  f.nu = 21, f.nv = 11, f.fold = 10;
+  const double h = 0.02, gap = 0.02;
+  auto mesh = geometry::make_grid(h * (f.nu - 1), h * (f.nv - 1), f.nu, f.nv, geometry::GridPattern::Herringbone);
+  for (int j = 0; j < f.nv; ++j)
+    for (int i = 0; i < f.nu; ++i) {
+      const int k = i + f.nu * j;
+      const double s = (i - f.fold) * h, z = mesh.positions(k, 1);
+      mesh.positions.row(k) = i <= f.fold ? Eigen::RowVector3d(s, 0.0, z) : Eigen::RowVector3d(-s, gap, z);
+    }
+  ClothMaterial material;
+  material.bending_stiffness = 0.0;  // the fold is the rest shape of the springs
+  SolverSettings solver;
+  solver.max_substep = 1.0 / 24.0;
+  CollisionSettings collision;
+  collision.self_collision = self_collision;
+  collision.thickness = 0.004;
+  f.sim = testing::make_simulator(mesh, material, solver, collision);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(3 * f.sim->node_count());
+  for (int j = 0; j < f.nv; ++j)
+    for (int i = 0; i < f.nu; ++i) {
+      const int k = i + f.nu * j;
+      if (i <= f.fold) f.sim->pin(k);
+      else v[3 * k + 1] = -3.0;
+    }
+  f.sim->set_state(f.sim->positions(), v);
+  return f;
+}
+
+// Smallest height of an upper-layer node above the pinned lower node it was folded onto.
+double smallest_separation(const FoldedCloth& f) {
+  double smallest = 1.0;
+  for (int j = 0; j < f.nv; ++j)
+    for (int i = f.fold + 2; i < f.nu; ++i) {
+      const int upper = i + f.nu * j, lower = (2 * f.fold - i) + f.nu * j;
+      smallest = std::min(smallest, f.sim->positions()[3 * upper + 1] - f.sim->positions()[3 * lower + 1]);
+    }
+  return smallest;
+}
+
+TEST(ClothContact, FoldedClothDoesNotPassThroughItself) {
+  auto f = folded_cloth(true);
+  for (int s = 0; s < 24; ++s) {
+    f.sim->advance(s / 24.0, 1.0 / 24.0);
+    // The lower layer is flat at y = 0: an upper node below it has passed through.
+    ASSERT_GT(smallest_separation(f), 0.0) << "step " << s;
+  }
+  EXPECT_GT(f.sim->statistics().collisions.proximity_contacts, 0);
+}
+
+TEST(ClothContact, FoldedClothPassesThroughWithoutSelfCollision) {
+  // The control case: the same throw without self-collision goes through, so the test
+  // above can fail.
+  auto f = folded_cloth(false);
+  for (int s = 0; s < 6; ++s) f.sim->advance(s / 24.0, 1.0 / 24.0);
+  EXPECT_LT(smallest_separation(f), -0.05);
+}
+
+TEST(ClothContact, ClothStaysAboveAnotherSolidsSurface) {
+  // A kinematic square (two triangles) at y = 0 seen through set_obstacles; the cloth
+  // falls onto it at 3 m/s with no analytic collider and no self-collision.
+  auto mesh = testing::hanging_grid(0.4, 0.4, 9, 9);
+  geometry::apply_transform(Eigen::Affine3d(Eigen::AngleAxisd(-M_PI / 2, Eigen::Vector3d::UnitX())), mesh);
+  for (int k = 0; k < mesh.positions.rows(); ++k) mesh.positions(k, 1) += 0.05;
+  CollisionSettings collision;
+  collision.self_collision = false;
+  collision.thickness = 0.005;
+  auto sim = testing::make_simulator(mesh, ClothMaterial{}, SolverSettings{}, collision);
+  Eigen::VectorXd v = Eigen::VectorXd::Zero(sim->positions().size());
+  for (int k = 0; k < sim->node_count(); ++k) v[3 * k + 1] = -3.0;
+  sim->set_state(sim->positions(), v);
+
+  sdk::ShellSurface floor;
+  floor.name = "floor/surface";
+  floor.positions.resize(4, 3);
+  floor.positions << -1, 0, -1, 1, 0, -1, 1, 0, 1, -1, 0, 1;
+  floor.velocities = sdk::Positions::Zero(4, 3);
+  auto triangles = std::make_shared<sdk::Triangles>(2, 3);
+  *triangles << 0, 2, 1, 0, 3, 2;
+  floor.triangles = triangles;
+  const std::vector<sdk::ShellSurface> obstacles{floor};
+  int contacts = 0;
+  for (int s = 0; s < 24; ++s) {
+    sim->set_obstacles(obstacles, s / 24.0);
+    sim->advance(s / 24.0, 1.0 / 24.0);
+    contacts += sim->statistics().collisions.proximity_contacts + sim->statistics().collisions.ccd_collisions;
+    for (int k = 0; k < sim->node_count(); ++k)
+      ASSERT_GT(sim->positions()[3 * k + 1], 0.0) << "node " << k << " step " << s;
+  }
+  EXPECT_GT(contacts, 0);
+}
+
+}  // namespace
+}  // namespace shellflow::cloth
