@@ -1,0 +1,89 @@
+#pragma once
+// Test matrices for the linear solvers: the 7-point finite-volume Laplacian on an
+// n x n x n grid of cells (the pressure matrix of the MAC-grid projection, §4.3,
+// Guendelman et al. 2005, with unit dx and density), flat index i + n (j + n k).
+//   Dirichlet: p = 0 in ghost cells beyond every domain face -> diagonal 6, SPD.
+//   Neumann:   zero flux through every domain face -> diagonal = number of neighbours,
+//              semidefinite with the constant vector as null space.
+// `face_weight(cell_a, cell_b)` > 0 scales each face coefficient (variable density).
+
+#include <Eigen/Core>
+#include <cmath>
+#include <functional>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "shellflow/linear/sparse_matrix.hpp"
+
+namespace shellflow::linear::testing {
+
+enum class Boundary { Dirichlet, Neumann };
+
+inline int cell_index(int n, int i, int j, int k) {
+  return i + n * (j + n * k);
+}
+
+inline SparseMatrix poisson_7point(int n, Boundary boundary,
+                                   const std::function<double(int, int)>& face_weight = {}) {
+  std::vector<Eigen::Triplet<double, int>> entries;
+  entries.reserve(static_cast<size_t>(7) * n * n * n);
+  const int offsets[6][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}, {0, 0, -1}, {0, 0, 1}};
+  for (int k = 0; k < n; ++k) {
+    for (int j = 0; j < n; ++j) {
+      for (int i = 0; i < n; ++i) {
+        const int row = cell_index(n, i, j, k);
+        double diagonal = 0.0;
+        for (const auto& o : offsets) {
+          const int a = i + o[0], b = j + o[1], c = k + o[2];
+          const bool inside = a >= 0 && a < n && b >= 0 && b < n && c >= 0 && c < n;
+          if (inside) {
+            const int col = cell_index(n, a, b, c);
+            const double w = face_weight ? face_weight(row, col) : 1.0;
+            entries.emplace_back(row, col, -w);
+            diagonal += w;
+          } else if (boundary == Boundary::Dirichlet) {
+            diagonal += 1.0;
+          }
+        }
+        entries.emplace_back(row, row, diagonal);
+      }
+    }
+  }
+  SparseMatrix a(n * n * n, n * n * n);
+  a.setFromTriplets(entries.begin(), entries.end());
+  a.makeCompressed();
+  return a;
+}
+
+/// Spectral condition number of the unit-weight Dirichlet matrix: eigenvalues are
+/// sum over axes of 2 - 2 cos(m pi / (n + 1)), m = 1..n.
+inline double dirichlet_condition_number(int n) {
+  const double lo = 3.0 * (2.0 - 2.0 * std::cos(std::numbers::pi / (n + 1)));
+  const double hi = 3.0 * (2.0 - 2.0 * std::cos(n * std::numbers::pi / (n + 1)));
+  return hi / lo;
+}
+
+/// Effective condition number (largest over smallest nonzero eigenvalue) of the
+/// unit-weight Neumann matrix: eigenvalues sum over axes of 2 - 2 cos(m pi / n), m = 0..n-1.
+inline double neumann_condition_number(int n) {
+  const double lo = 2.0 - 2.0 * std::cos(std::numbers::pi / n);
+  const double hi = 3.0 * (2.0 - 2.0 * std::cos((n - 1) * std::numbers::pi / n));
+  return hi / lo;
+}
+
+/// A smooth field plus seeded noise: the manufactured solution x*.
+inline Eigen::VectorXd manufactured_solution(int n, unsigned seed = 7) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> noise(-0.5, 0.5);
+  Eigen::VectorXd x(n * n * n);
+  for (int k = 0; k < n; ++k)
+    for (int j = 0; j < n; ++j)
+      for (int i = 0; i < n; ++i) {
+        const double s = std::sin(2.0 * i / n) * std::cos(3.0 * j / n) + 0.3 * k / n;
+        x[cell_index(n, i, j, k)] = s + noise(rng);
+      }
+  return x;
+}
+
+}  // namespace shellflow::linear::testing
