@@ -5,7 +5,8 @@
 
 namespace shellflow::cloth {
 
-AnalyticCollider AnalyticCollider::plane(const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
+AnalyticCollider AnalyticCollider::plane(const Eigen::Vector3d& point,
+                                         const Eigen::Vector3d& normal) {
   AnalyticCollider c;
   c.m_shape = Shape::Plane;
   c.m_a = point;

@@ -11,9 +11,9 @@ namespace shellflow::cloth {
 namespace {
 
 struct EdgeRecord {
-  int a, b;      // sorted node pair
-  int triangle;  // adjacent triangle
-  int opposite;  // its third node
+  int a, b;           // sorted node pair
+  int triangle;       // adjacent triangle
+  int opposite;       // its third node
   int first, second;  // the edge's nodes in the triangle's orientation
 };
 
@@ -72,7 +72,8 @@ ClothModel build_cloth_model(const sdk::Positions& positions, const sdk::Triangl
     for (size_t k = s; k < e; ++k) edge_area += areas[edges[k].triangle];
     const double L0 = (X(r0.a) - X(r0.b)).norm();
     // Structural spring, (4/5) Y A_e / L0^2 (see the header for the calibration).
-    model.springs.push_back({r0.a, r0.b, L0, 0.8 * material.stretch_stiffness * edge_area / (L0 * L0),
+    model.springs.push_back({r0.a, r0.b, L0,
+                             0.8 * material.stretch_stiffness * edge_area / (L0 * L0),
                              0.8 * material.stretch_damping * edge_area / (L0 * L0)});
     if (e - s == 2) {
       const EdgeRecord& r1 = edges[s + 1];

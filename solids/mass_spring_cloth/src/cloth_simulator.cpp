@@ -24,7 +24,9 @@ namespace {
 // Below this many items a loop runs serially: a parallel region costs more than it saves.
 constexpr int kParallelThreshold = 4096;
 
-Eigen::Vector3d node(const Eigen::VectorXd& x, int k) { return x.segment<3>(3 * k); }
+Eigen::Vector3d node(const Eigen::VectorXd& x, int k) {
+  return x.segment<3>(3 * k);
+}
 
 }  // namespace
 
@@ -68,8 +70,8 @@ void ClothSimulator::build_pattern() {
       for (int l = 0; l < 4; ++l)
         m_system.add_diagonal(m_system.slot(b.nodes[k], b.nodes[l]),
                               b.inverse_area * b.weights[k] * b.weights[l]);
-  m_bending_values = Eigen::Map<const Eigen::VectorXd>(m_system.matrix().valuePtr(),
-                                                       m_system.matrix().nonZeros());
+  m_bending_values =
+      Eigen::Map<const Eigen::VectorXd>(m_system.matrix().valuePtr(), m_system.matrix().nonZeros());
 }
 
 void ClothSimulator::pin(int k) {
@@ -80,7 +82,8 @@ void ClothSimulator::pin(int k) {
 }
 
 void ClothSimulator::attach(int k, const KinematicPath& path) {
-  if (k < 0 || k >= node_count()) throw Error("attach: node " + std::to_string(k) + " does not exist");
+  if (k < 0 || k >= node_count())
+    throw Error("attach: node " + std::to_string(k) + " does not exist");
   m_paths.push_back(path);
   m_constraint[k] = static_cast<int>(m_paths.size()) - 1;
   m_anchor.segment<3>(3 * k) = m_x.segment<3>(3 * k);
@@ -101,7 +104,8 @@ void ClothSimulator::set_obstacles(sdk::ShellSet surfaces, double t) {
     int offset = node_count();
     for (const auto& s : surfaces) {
       for (int t = 0; t < s.triangle_count(); ++t)
-        m_obstacle_triangles.push_back({offset + (*s.triangles)(t, 0), offset + (*s.triangles)(t, 1),
+        m_obstacle_triangles.push_back({offset + (*s.triangles)(t, 0),
+                                        offset + (*s.triangles)(t, 1),
                                         offset + (*s.triangles)(t, 2)});
       offset += s.node_count();
     }
@@ -132,8 +136,8 @@ Eigen::VectorXd ClothSimulator::forces(const Eigen::VectorXd& x, const Eigen::Ve
   const int n = node_count();
   Eigen::VectorXd f(3 * n);
   for (int k = 0; k < n; ++k)
-    f.segment<3>(3 * k) = m_model.masses[k] * m_gravity -
-                          m_model.air_damping * m_model.node_areas[k] * node(v, k);
+    f.segment<3>(3 * k) =
+        m_model.masses[k] * m_gravity - m_model.air_damping * m_model.node_areas[k] * node(v, k);
   if (m_external.size() == f.size()) f += m_external;
   for (const auto& s : m_model.springs) {
     const auto e = evaluate_spring(s, node(x, s.i), node(x, s.j), node(v, s.i), node(v, s.j), true);
@@ -158,14 +162,16 @@ void ClothSimulator::force_jacobians(const Eigen::VectorXd& x, const Eigen::Vect
                                      Eigen::SparseMatrix<double>& dfdv) const {
   const int n = node_count();
   std::vector<Eigen::Triplet<double>> tx, tv;
-  const auto add = [](std::vector<Eigen::Triplet<double>>& t, int i, int j, const Eigen::Matrix3d& B) {
+  const auto add = [](std::vector<Eigen::Triplet<double>>& t, int i, int j,
+                      const Eigen::Matrix3d& B) {
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) t.emplace_back(3 * i + a, 3 * j + b, B(a, b));
   };
   for (int k = 0; k < n; ++k)
     add(tv, k, k, -m_model.air_damping * m_model.node_areas[k] * Eigen::Matrix3d::Identity());
   for (const auto& s : m_model.springs) {
-    const auto e = evaluate_spring(s, node(x, s.i), node(x, s.j), node(v, s.i), node(v, s.j), exact);
+    const auto e =
+        evaluate_spring(s, node(x, s.i), node(x, s.j), node(v, s.i), node(v, s.j), exact);
     add(tx, s.i, s.i, e.dfdx), add(tx, s.j, s.j, e.dfdx), add(tx, s.i, s.j, -e.dfdx),
         add(tx, s.j, s.i, -e.dfdx);
     add(tv, s.i, s.i, e.dfdv), add(tv, s.j, s.j, e.dfdv), add(tv, s.i, s.j, -e.dfdv),
@@ -174,7 +180,8 @@ void ClothSimulator::force_jacobians(const Eigen::VectorXd& x, const Eigen::Vect
   for (const auto& b : m_model.bending)
     for (int k = 0; k < 4; ++k)
       for (int l = 0; l < 4; ++l) {
-        const Eigen::Matrix3d I = b.inverse_area * b.weights[k] * b.weights[l] * Eigen::Matrix3d::Identity();
+        const Eigen::Matrix3d I =
+            b.inverse_area * b.weights[k] * b.weights[l] * Eigen::Matrix3d::Identity();
         add(tx, b.nodes[k], b.nodes[l], -m_model.bending_stiffness * I);
         add(tv, b.nodes[k], b.nodes[l], -m_model.bending_damping * I);
       }
@@ -204,7 +211,8 @@ void ClothSimulator::step(double t, double h) {
 #pragma omp parallel for schedule(static) if (springs.size() > kParallelThreshold)
   for (int e = 0; e < static_cast<int>(springs.size()); ++e) {
     const auto& s = springs[e];
-    const auto ev = evaluate_spring(s, node(m_x, s.i), node(m_x, s.j), node(m_v, s.i), node(m_v, s.j), exact);
+    const auto ev =
+        evaluate_spring(s, node(m_x, s.i), node(m_x, s.j), node(m_v, s.i), node(m_v, s.j), exact);
     spring_force[e] = ev.force_i;
     spring_kv[e] = ev.dfdx * (node(m_v, s.i) - node(m_v, s.j));
     spring_block[e] = -(h * h) * ev.dfdx - h * ev.dfdv;
@@ -230,7 +238,8 @@ void ClothSimulator::step(double t, double h) {
         sx += b.weights[k] * node(m_x, b.nodes[k]);
         sv += b.weights[k] * node(m_v, b.nodes[k]);
       }
-      const Eigen::Vector3d g = b.inverse_area * (kb * sx + beta * sv), gv = b.inverse_area * kb * sv;
+      const Eigen::Vector3d g = b.inverse_area * (kb * sx + beta * sv),
+                            gv = b.inverse_area * kb * sv;
       for (int k = 0; k < 4; ++k) {
         f.segment<3>(3 * b.nodes[k]) -= b.weights[k] * g;
         Kv.segment<3>(3 * b.nodes[k]) -= b.weights[k] * gv;
@@ -251,7 +260,9 @@ void ClothSimulator::step(double t, double h) {
     any_fixed = true;
     Eigen::Vector3d target = Eigen::Vector3d::Zero();
     if (m_constraint[k] >= 0)
-      target = (m_anchor.segment<3>(3 * k) + m_paths[m_constraint[k]].translation(t + h) - node(m_x, k)) / h;
+      target = (m_anchor.segment<3>(3 * k) + m_paths[m_constraint[k]].translation(t + h) -
+                node(m_x, k)) /
+               h;
     known.segment<3>(3 * k) = target - node(m_v, k);
   }
   auto& A = m_system.matrix();
@@ -295,13 +306,15 @@ void ClothSimulator::step(double t, double h) {
     }
     lin.cholmod.factorize(lin.column_major);
     if (lin.cholmod.info() != Eigen::Success)
-      throw NumericalError("mass_spring_cloth: CHOLMOD could not factor the implicit system "
-                           "(not positive definite); use the default CG solver or smaller steps");
+      throw NumericalError(
+          "mass_spring_cloth: CHOLMOD could not factor the implicit system "
+          "(not positive definite); use the default CG solver or smaller steps");
     dv = lin.cholmod.solve(rhs);
   }
   if (!dv.allFinite())
-    throw NumericalError("mass_spring_cloth: the implicit solve produced non-finite velocities; "
-                         "lower the stiffness or the step (solver/max_substep)");
+    throw NumericalError(
+        "mass_spring_cloth: the implicit solve produced non-finite velocities; "
+        "lower the stiffness or the step (solver/max_substep)");
   Eigen::VectorXd v1 = m_v + dv;
 
   // Collisions: analytic colliders, then other solids' surfaces and self-collision.
@@ -312,7 +325,8 @@ void ClothSimulator::step(double t, double h) {
     if (m_collision_topology_dirty) {
       std::vector<std::array<int, 3>> triangles;
       for (int k = 0; k < m_model.triangles.rows(); ++k)
-        triangles.push_back({m_model.triangles(k, 0), m_model.triangles(k, 1), m_model.triangles(k, 2)});
+        triangles.push_back(
+            {m_model.triangles(k, 0), m_model.triangles(k, 1), m_model.triangles(k, 2)});
       triangles.insert(triangles.end(), m_obstacle_triangles.begin(), m_obstacle_triangles.end());
       m_collision_solver.set_topology(triangles);
       m_collision_solver.set_parameters(m_collision.thickness, m_collision.friction,
@@ -345,8 +359,8 @@ void ClothSimulator::step(double t, double h) {
   if (!m_x.allFinite()) throw NumericalError("mass_spring_cloth: non-finite node positions");
 }
 
-void ClothSimulator::resolve_collider_contacts(const Eigen::VectorXd& x0, Eigen::VectorXd& v, double h,
-                                               std::vector<Eigen::Vector3d>& pop) {
+void ClothSimulator::resolve_collider_contacts(const Eigen::VectorXd& x0, Eigen::VectorXd& v,
+                                               double h, std::vector<Eigen::Vector3d>& pop) {
   const int n = node_count();
   const double thickness = m_collision.thickness, mu = m_collision.friction;
   int contacts = 0;

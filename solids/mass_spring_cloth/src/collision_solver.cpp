@@ -144,7 +144,9 @@ void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
       const Eigen::Vector3d vr = v[k] - (w[0] * v[tri[0]] + w[1] * v[tri[1]] + w[2] * v[tri[2]]);
       if (vr.dot(n) > 0.0) n = -n;
     }
-    out.push_back({{k, tri[0], tri[1], tri[2]}, {1.0, -w[0], -w[1], -w[2]}, n,
+    out.push_back({{k, tri[0], tri[1], tri[2]},
+                   {1.0, -w[0], -w[1], -w[2]},
+                   n,
                    kRepulsionFraction * (thickness - dist) / h});
   }
   for (const auto& [e, f] : pairs.edge_edge) {
@@ -161,7 +163,9 @@ void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
     if (dist >= thickness || dist <= 1e-9 * thickness) continue;
     // Point–triangle pairs cover the end points; edge pairs only count in their interiors.
     if (s <= 0.0 || s >= 1.0 || u <= 0.0 || u >= 1.0) continue;
-    out.push_back({{ea[0], ea[1], eb[0], eb[1]}, {1 - s, s, -(1 - u), -u}, d / dist,
+    out.push_back({{ea[0], ea[1], eb[0], eb[1]},
+                   {1 - s, s, -(1 - u), -u},
+                   d / dist,
                    kRepulsionFraction * (thickness - dist) / h});
   }
 }
@@ -330,7 +334,8 @@ CollisionStatistics CollisionSolver::resolve(const Vectors& x0, Vectors& v,
         if (a != b) parent[b] = a;
       }
     // Zone velocity: mass-weighted mean, or the mean of its fixed nodes if it has any.
-    std::vector<Eigen::Vector3d> momentum(n, Eigen::Vector3d::Zero()), fixed_sum(n, Eigen::Vector3d::Zero());
+    std::vector<Eigen::Vector3d> momentum(n, Eigen::Vector3d::Zero()),
+        fixed_sum(n, Eigen::Vector3d::Zero());
     std::vector<double> mass(n, 0.0), fixed_count(n, 0.0), size(n, 0.0);
     for (int k = 0; k < n; ++k) {
       const int r = find_root(parent, k);

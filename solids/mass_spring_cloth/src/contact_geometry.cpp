@@ -75,8 +75,8 @@ double triple(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::V
 
 }  // namespace
 
-int coplanarity_times(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eigen::Vector3d, 4>& d,
-                      std::array<double, 3>& times) {
+int coplanarity_times(const std::array<Eigen::Vector3d, 4>& x,
+                      const std::array<Eigen::Vector3d, 4>& d, std::array<double, 3>& times) {
   // f(t) = [(x1-x0)(t), (x2-x0)(t), (x3-x0)(t)], a cubic k0 + k1 t + k2 t^2 + k3 t^3.
   const Eigen::Vector3d B0 = x[1] - x[0], C0 = x[2] - x[0], D0 = x[3] - x[0];
   const Eigen::Vector3d B1 = d[1] - d[0], C1 = d[2] - d[0], D1 = d[3] - d[0];

@@ -20,9 +20,11 @@ T value_or(const nlohmann::json& object, const char* key, T fallback) {
 
 sdk::Schema collider_schema() {
   return Schema::variant("type", "analytic static collider")
-      .option("plane", Schema::object("half-space below a plane")
-                           .field("point", Schema::vec3(0, 0, 0).unit("m"))
-                           .field("normal", Schema::vec3(0, 1, 0).doc("points to the side the cloth stays on")))
+      .option(
+          "plane",
+          Schema::object("half-space below a plane")
+              .field("point", Schema::vec3(0, 0, 0).unit("m"))
+              .field("normal", Schema::vec3(0, 1, 0).doc("points to the side the cloth stays on")))
       .option("sphere", Schema::object("solid sphere")
                             .field("center", Schema::vec3().unit("m"))
                             .field("radius", Schema::number().min(0.0, false).unit("m")))
@@ -42,47 +44,70 @@ sdk::Schema MassSpringCloth::schema() {
              "springs, quadratic bending of Bergou et al. 2006; Bridson et al. 2002 collisions).")
       .field("mesh", geometry::mesh_schema())
       .field("transform", geometry::transform_schema().optional())
-      .field("surface_density", Schema::number(m.surface_density).min(0.0, false).unit("kg/m^2")
-                                    .doc("mass per area; lumped, a third of each triangle per node"))
-      .field("stretch_stiffness", Schema::number(m.stretch_stiffness).min(0.0).unit("N/m")
+      .field("surface_density",
+             Schema::number(m.surface_density)
+                 .min(0.0, false)
+                 .unit("kg/m^2")
+                 .doc("mass per area; lumped, a third of each triangle per node"))
+      .field("stretch_stiffness", Schema::number(m.stretch_stiffness)
+                                      .min(0.0)
+                                      .unit("N/m")
                                       .doc("membrane stiffness: force per width per unit strain"))
-      .field("stretch_damping", Schema::number(m.stretch_damping).min(0.0).unit("N s/m")
-                                    .doc("membrane viscosity: force per width per unit strain rate"))
-      .field("shear_stiffness", Schema::number(m.shear_stiffness).min(0.0).unit("N/m")
+      .field("stretch_damping",
+             Schema::number(m.stretch_damping)
+                 .min(0.0)
+                 .unit("N s/m")
+                 .doc("membrane viscosity: force per width per unit strain rate"))
+      .field("shear_stiffness", Schema::number(m.shear_stiffness)
+                                    .min(0.0)
+                                    .unit("N/m")
                                     .doc("modulus of the cross-edge (shear) springs"))
       .field("shear_damping", Schema::number(m.shear_damping).min(0.0).unit("N s/m"))
-      .field("bending_stiffness", Schema::number(m.bending_stiffness).min(0.0).unit("N m")
+      .field("bending_stiffness", Schema::number(m.bending_stiffness)
+                                      .min(0.0)
+                                      .unit("N m")
                                       .doc("bending rigidity (flat rest shape)"))
       .field("bending_damping", Schema::number(m.bending_damping).min(0.0).unit("N m s"))
-      .field("air_damping", Schema::number(m.air_damping).min(0.0).unit("kg/(m^2 s)")
+      .field("air_damping", Schema::number(m.air_damping)
+                                .min(0.0)
+                                .unit("kg/(m^2 s)")
                                 .doc("drag per area and velocity, on every node"))
       .field("receives_fluid_forces", Schema::boolean(true).doc("two-way coupled (§5.1)"))
-      .field("solver",
-             Schema::object("time integration")
-                 .field("linear_solver", Schema::string("cg").one_of({"cg", "cholmod"})
-                                             .doc("Jacobi-preconditioned CG or CHOLMOD Cholesky"))
-                 .field("cg_tolerance", Schema::number(s.cg_tolerance).min(0.0, false)
-                                            .doc("relative residual"))
-                 .field("cg_max_iterations", Schema::integer(s.cg_max_iterations).min(1))
-                 .field("substeps", Schema::integer(s.min_substeps).min(1).doc("substeps per advance, at least"))
-                 .field("max_substep", Schema::number(s.max_substep).min(0.0, false).unit("s")
-                                           .doc("longest substep")))
-      .field("collision",
-             Schema::object("contact")
-                 .field("thickness", Schema::number(0.0).min(0.0).unit("m")
-                                         .doc("proximity distance; 0 means a quarter of the mean edge length"))
-                 .field("friction", Schema::number(c.friction).min(0.0))
-                 .field("self_collision", Schema::boolean(c.self_collision))
-                 .field("ccd_iterations", Schema::integer(c.ccd_iterations).min(1)
-                                              .doc("continuous-collision passes before impact zones")))
+      .field(
+          "solver",
+          Schema::object("time integration")
+              .field("linear_solver", Schema::string("cg")
+                                          .one_of({"cg", "cholmod"})
+                                          .doc("Jacobi-preconditioned CG or CHOLMOD Cholesky"))
+              .field("cg_tolerance",
+                     Schema::number(s.cg_tolerance).min(0.0, false).doc("relative residual"))
+              .field("cg_max_iterations", Schema::integer(s.cg_max_iterations).min(1))
+              .field("substeps",
+                     Schema::integer(s.min_substeps).min(1).doc("substeps per advance, at least"))
+              .field(
+                  "max_substep",
+                  Schema::number(s.max_substep).min(0.0, false).unit("s").doc("longest substep")))
+      .field(
+          "collision",
+          Schema::object("contact")
+              .field("thickness",
+                     Schema::number(0.0).min(0.0).unit("m").doc(
+                         "proximity distance; 0 means a quarter of the mean edge length"))
+              .field("friction", Schema::number(c.friction).min(0.0))
+              .field("self_collision", Schema::boolean(c.self_collision))
+              .field("ccd_iterations", Schema::integer(c.ccd_iterations)
+                                           .min(1)
+                                           .doc("continuous-collision passes before impact zones")))
       .field("colliders", Schema::array(collider_schema()).optional())
       .field("pins", node_selection_schema("nodes held in place").optional())
       .field("attachments",
-             Schema::array(Schema::object("nodes moved along a piecewise-linear path")
-                               .field("nodes", node_selection_schema("the attached nodes"))
-                               .field("times", Schema::number_list().unit("s"))
-                               .field("translations", Schema::array(Schema::vec3()).unit("m")
-                                                          .doc("offset from the rest position at each time")))
+             Schema::array(
+                 Schema::object("nodes moved along a piecewise-linear path")
+                     .field("nodes", node_selection_schema("the attached nodes"))
+                     .field("times", Schema::number_list().unit("s"))
+                     .field("translations", Schema::array(Schema::vec3())
+                                                .unit("m")
+                                                .doc("offset from the rest position at each time")))
                  .optional());
 }
 
@@ -97,7 +122,8 @@ MassSpringCloth::MassSpringCloth(const nlohmann::json& params, const sdk::Contex
     const auto& mesh_spec = params.at("mesh");
     const auto& fields = geometry::mesh_schema().json().at("options").at("grid").at("fields");
     const auto count = [&](const char* key) {
-      return mesh_spec.contains(key) ? mesh_spec.at(key).get<int>() : fields.at(key).at("default").get<int>();
+      return mesh_spec.contains(key) ? mesh_spec.at(key).get<int>()
+                                     : fields.at(key).at("default").get<int>();
     };
     grid = GridShape{count("nodes_u"), count("nodes_v")};
   }
@@ -144,13 +170,14 @@ MassSpringCloth::MassSpringCloth(const nlohmann::json& params, const sdk::Contex
       const auto& item = list[k];
       const std::string type = item.value("type", "");
       if (type == "plane") {
-        m_simulator->add_collider(AnalyticCollider::plane(sdk::json_vec3(item, "point"),
-                                                          sdk::json_vec3(item, "normal")));
-      } else if (type == "sphere") {
         m_simulator->add_collider(
-            AnalyticCollider::sphere(sdk::json_vec3(item, "center"), item.at("radius").get<double>()));
+            AnalyticCollider::plane(sdk::json_vec3(item, "point"), sdk::json_vec3(item, "normal")));
+      } else if (type == "sphere") {
+        m_simulator->add_collider(AnalyticCollider::sphere(sdk::json_vec3(item, "center"),
+                                                           item.at("radius").get<double>()));
       } else if (type == "box") {
-        m_simulator->add_collider(AnalyticCollider::box(sdk::json_vec3(item, "min"), sdk::json_vec3(item, "max")));
+        m_simulator->add_collider(
+            AnalyticCollider::box(sdk::json_vec3(item, "min"), sdk::json_vec3(item, "max")));
       } else {
         throw ConfigError("/colliders/" + std::to_string(k) + "/type",
                           "unknown collider \"" + type + "\"; use plane, sphere or box");
@@ -158,7 +185,8 @@ MassSpringCloth::MassSpringCloth(const nlohmann::json& params, const sdk::Contex
     }
   }
   if (params.contains("pins"))
-    for (int k : select_nodes(params.at("pins"), mesh.positions, grid, "/pins")) m_simulator->pin(k);
+    for (int k : select_nodes(params.at("pins"), mesh.positions, grid, "/pins"))
+      m_simulator->pin(k);
   if (params.contains("attachments")) {
     const auto& list = params.at("attachments");
     for (size_t a = 0; a < list.size(); ++a) {
@@ -194,15 +222,17 @@ void MassSpringCloth::set_colliders(sdk::ShellSet colliders) {
   m_colliders.assign(colliders.begin(), colliders.end());
 }
 
-void MassSpringCloth::advance(double t, double dt, std::span<const sdk::TriangleVectors> triangle_forces) {
+void MassSpringCloth::advance(double t, double dt,
+                              std::span<const sdk::TriangleVectors> triangle_forces) {
   const int n = m_simulator->node_count();
   Eigen::VectorXd external;
-  if (m_surface.receives_fluid_forces && !triangle_forces.empty() && triangle_forces[0].rows() > 0) {
+  if (m_surface.receives_fluid_forces && !triangle_forces.empty() &&
+      triangle_forces[0].rows() > 0) {
     const auto& forces = triangle_forces[0];
     const auto& tris = *m_surface.triangles;
     if (forces.rows() != tris.rows())
-      throw Error("mass_spring_cloth: got " + std::to_string(forces.rows()) + " triangle forces for " +
-                  std::to_string(tris.rows()) + " triangles");
+      throw Error("mass_spring_cloth: got " + std::to_string(forces.rows()) +
+                  " triangle forces for " + std::to_string(tris.rows()) + " triangles");
     external = Eigen::VectorXd::Zero(3 * n);
     for (int t = 0; t < tris.rows(); ++t)
       for (int k = 0; k < 3; ++k)  // a third of each triangle's force to each node
@@ -214,7 +244,9 @@ void MassSpringCloth::advance(double t, double dt, std::span<const sdk::Triangle
   update_surface();
 }
 
-void MassSpringCloth::save(sdk::StateWriter& out) const { m_simulator->save(out); }
+void MassSpringCloth::save(sdk::StateWriter& out) const {
+  m_simulator->save(out);
+}
 
 void MassSpringCloth::restore(sdk::StateReader& in) {
   m_simulator->restore(in);

@@ -10,12 +10,13 @@ namespace shellflow::cloth {
 sdk::Schema node_selection_schema(const std::string& doc) {
   return sdk::Schema::object(doc)
       .field("indices", sdk::Schema::integer_list().optional().doc("node indices"))
-      .field("grid", sdk::Schema::array(sdk::Schema::string().one_of(
-                                            {"top", "bottom", "left", "right", "top_left", "top_right",
-                                             "bottom_left", "bottom_right"}))
+      .field("grid", sdk::Schema::array(
+                         sdk::Schema::string().one_of({"top", "bottom", "left", "right", "top_left",
+                                                       "top_right", "bottom_left", "bottom_right"}))
                          .optional()
                          .doc("named edges and corners of a generated grid mesh"))
-      .field("box_min", sdk::Schema::vec3().optional().unit("m").doc("with box_max: nodes inside this box"))
+      .field("box_min",
+             sdk::Schema::vec3().optional().unit("m").doc("with box_max: nodes inside this box"))
       .field("box_max", sdk::Schema::vec3().optional().unit("m"));
 }
 
@@ -65,7 +66,8 @@ std::vector<int> select_nodes(const nlohmann::json& selector, const sdk::Positio
   if (selector.contains("box_min") != selector.contains("box_max"))
     throw ConfigError(json_path, "give both box_min and box_max");
   if (selector.contains("box_min")) {
-    const Eigen::Vector3d lo = sdk::json_vec3(selector, "box_min"), hi = sdk::json_vec3(selector, "box_max");
+    const Eigen::Vector3d lo = sdk::json_vec3(selector, "box_min"),
+                          hi = sdk::json_vec3(selector, "box_max");
     for (int k = 0; k < n; ++k) {
       const Eigen::Vector3d x = positions.row(k).transpose();
       if ((x.array() >= lo.array()).all() && (x.array() <= hi.array()).all()) out.push_back(k);
@@ -73,7 +75,8 @@ std::vector<int> select_nodes(const nlohmann::json& selector, const sdk::Positio
   }
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
-  if (out.empty()) throw ConfigError(json_path, "selects no node; check the indices, grid names or box");
+  if (out.empty())
+    throw ConfigError(json_path, "selects no node; check the indices, grid names or box");
   return out;
 }
 

@@ -11,7 +11,8 @@ constexpr long kMaxCellsPerBox = 512;
 
 std::uint64_t SpatialHash::key(long ix, long iy, long iz) const {
   // Teschner et al. 2003 primes; a collision of keys only adds candidates.
-  return (static_cast<std::uint64_t>(ix) * 73856093ULL) ^ (static_cast<std::uint64_t>(iy) * 19349663ULL) ^
+  return (static_cast<std::uint64_t>(ix) * 73856093ULL) ^
+         (static_cast<std::uint64_t>(iy) * 19349663ULL) ^
          (static_cast<std::uint64_t>(iz) * 83492791ULL);
 }
 

@@ -41,7 +41,8 @@ TEST(ClothPhysics, HangingChainReachesAnalyticStaticStretch) {
   for (int i = 0; i + 1 < n; ++i) {
     // Spring i carries the weight of the n - 1 - i nodes below it: extension = w / k.
     const double expected = (n - 1 - i) * m * 9.81 / k;
-    const double length = (sim.positions().segment<3>(3 * i) - sim.positions().segment<3>(3 * i + 3)).norm();
+    const double length =
+        (sim.positions().segment<3>(3 * i) - sim.positions().segment<3>(3 * i + 3)).norm();
     // 1 % of the extension: the issue's bound (the converged answer is exact to the CG tolerance).
     EXPECT_NEAR(length - rest, expected, 0.01 * expected) << "spring " << i;
   }
@@ -189,7 +190,8 @@ TEST(ClothPhysics, BendingEnergyOfACylinderMatchesTheContinuum) {
     sim->set_state(x, Eigen::VectorXd::Zero(x.size()));
     ClothMaterial no_bending = material;
     no_bending.bending_stiffness = 0.0;
-    auto reference = testing::make_simulator(mesh, no_bending, SolverSettings{}, CollisionSettings{});
+    auto reference =
+        testing::make_simulator(mesh, no_bending, SolverSettings{}, CollisionSettings{});
     reference->set_state(x, Eigen::VectorXd::Zero(x.size()));
     const double bending = sim->potential_energy() - reference->potential_energy();
     const double continuum = kb / (2 * R * R) * 1.0;
@@ -229,8 +231,8 @@ TEST(ClothPhysics, NamedGridCornersSelectTheRightNodes) {
   params["pins"] = nlohmann::json::parse(R"({"grid": ["top_right", "bottom"]})");
   MassSpringCloth cloth(params, sdk::Context{});
   const auto& sim = cloth.simulator();
-  EXPECT_TRUE(sim.is_constrained(8 + 9 * 8));   // top_right = (nu-1, nv-1)
-  EXPECT_FALSE(sim.is_constrained(9 * 8));      // top_left
+  EXPECT_TRUE(sim.is_constrained(8 + 9 * 8));                      // top_right = (nu-1, nv-1)
+  EXPECT_FALSE(sim.is_constrained(9 * 8));                         // top_left
   for (int i = 0; i < 9; ++i) EXPECT_TRUE(sim.is_constrained(i));  // bottom row j = 0
   params["pins"] = nlohmann::json::parse(R"({"indices": [500]})");
   EXPECT_THROW(MassSpringCloth(params, sdk::Context{}), ConfigError);
@@ -238,7 +240,8 @@ TEST(ClothPhysics, NamedGridCornersSelectTheRightNodes) {
 
 TEST(ClothPhysics, SaveRestoreRoundTripsBitForBit) {
   MassSpringCloth cloth(curtain_params(), sdk::Context{});
-  sdk::TriangleVectors force = sdk::TriangleVectors::Constant(cloth.surfaces()[0].triangle_count(), 3, 1e-3);
+  sdk::TriangleVectors force =
+      sdk::TriangleVectors::Constant(cloth.surfaces()[0].triangle_count(), 3, 1e-3);
   const std::vector<sdk::TriangleVectors> forces{force};
   int contacts = 0;
   for (int f = 0; f < 12; ++f) {
@@ -249,15 +252,18 @@ TEST(ClothPhysics, SaveRestoreRoundTripsBitForBit) {
   sdk::StateWriter writer(saved);
   cloth.save(writer);
   for (int f = 12; f < 18; ++f) cloth.advance(f / 24.0, 1.0 / 24.0, forces);
-  const sdk::Positions first_x = cloth.surfaces()[0].positions, first_v = cloth.surfaces()[0].velocities;
+  const sdk::Positions first_x = cloth.surfaces()[0].positions,
+                       first_v = cloth.surfaces()[0].velocities;
   sdk::StateReader reader(saved);
   cloth.restore(reader);
   EXPECT_TRUE(reader.at_end());
   for (int f = 12; f < 18; ++f) cloth.advance(f / 24.0, 1.0 / 24.0, forces);
   const auto& again = cloth.surfaces()[0];
   ASSERT_EQ(again.positions.size(), first_x.size());
-  EXPECT_EQ(0, std::memcmp(again.positions.data(), first_x.data(), sizeof(double) * first_x.size()));
-  EXPECT_EQ(0, std::memcmp(again.velocities.data(), first_v.data(), sizeof(double) * first_v.size()));
+  EXPECT_EQ(0,
+            std::memcmp(again.positions.data(), first_x.data(), sizeof(double) * first_x.size()));
+  EXPECT_EQ(0,
+            std::memcmp(again.velocities.data(), first_v.data(), sizeof(double) * first_v.size()));
   // The run did something: the cloth fell onto the sphere.
   EXPECT_GT(contacts, 0);
 }

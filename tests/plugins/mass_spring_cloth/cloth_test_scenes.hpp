@@ -19,8 +19,8 @@ inline std::unique_ptr<ClothSimulator> make_simulator(const geometry::SurfaceMes
                                                       const ClothMaterial& material,
                                                       const SolverSettings& solver,
                                                       const CollisionSettings& collision) {
-  return std::make_unique<ClothSimulator>(build_cloth_model(mesh.positions, mesh.triangles, material),
-                                          solver, collision, kGravity);
+  return std::make_unique<ClothSimulator>(
+      build_cloth_model(mesh.positions, mesh.triangles, material), solver, collision, kGravity);
 }
 
 }  // namespace shellflow::cloth::testing

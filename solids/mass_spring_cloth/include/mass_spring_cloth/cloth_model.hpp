@@ -39,9 +39,9 @@ struct Spring {
 
 /// One interior edge (a, b) with opposite nodes c (first triangle) and d (second).
 struct BendingStencil {
-  std::array<int, 4> nodes{};      ///< a, b, c, d
-  std::array<double, 4> weights{}; ///< cotangent weights (Bergou et al. 2006)
-  double inverse_area = 0.0;       ///< 1 / (A_1 + A_2) at rest [1/m^2]
+  std::array<int, 4> nodes{};       ///< a, b, c, d
+  std::array<double, 4> weights{};  ///< cotangent weights (Bergou et al. 2006)
+  double inverse_area = 0.0;        ///< 1 / (A_1 + A_2) at rest [1/m^2]
 };
 
 struct ClothModel {
@@ -49,7 +49,7 @@ struct ClothModel {
   Eigen::VectorXd masses;          ///< n [kg]
   Eigen::VectorXd node_areas;      ///< n [m^2], a third of each adjacent triangle
   sdk::Triangles triangles;
-  std::vector<Spring> springs;     ///< structural springs first, then shear springs
+  std::vector<Spring> springs;  ///< structural springs first, then shear springs
   int structural_count = 0;
   std::vector<BendingStencil> bending;
   double bending_stiffness = 0.0;  ///< [N m]

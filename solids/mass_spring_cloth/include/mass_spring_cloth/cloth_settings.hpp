@@ -10,9 +10,9 @@ namespace shellflow::cloth {
 struct ClothMaterial {
   double surface_density = 0.1;     ///< [kg/m^2]; lumped, a third of each triangle per node
   double stretch_stiffness = 2000;  ///< membrane stiffness Y [N/m] (force per width per strain)
-  double stretch_damping = 2.0;     ///< membrane viscosity [N s/m] (force per width per strain rate)
-  double shear_stiffness = 200;     ///< cross-edge (shear) spring modulus [N/m]
-  double shear_damping = 0.2;       ///< [N s/m]
+  double stretch_damping = 2.0;  ///< membrane viscosity [N s/m] (force per width per strain rate)
+  double shear_stiffness = 200;  ///< cross-edge (shear) spring modulus [N/m]
+  double shear_damping = 0.2;    ///< [N s/m]
   double bending_stiffness = 1e-5;  ///< bending rigidity k_b [N m]
   double bending_damping = 1e-7;    ///< [N m s]
   double air_damping = 0.0;         ///< drag per area and velocity [kg/(m^2 s)]
@@ -22,7 +22,7 @@ enum class LinearSolverKind { ConjugateGradient, Cholmod };
 
 struct SolverSettings {
   LinearSolverKind linear_solver = LinearSolverKind::ConjugateGradient;
-  double cg_tolerance = 1e-4;  ///< relative residual of the Jacobi-preconditioned CG
+  double cg_tolerance = 1e-3;  ///< relative residual of the Jacobi-preconditioned CG (paper: 1e-2)
   int cg_max_iterations = 1000;
   int min_substeps = 1;             ///< substeps per advance() at least
   double max_substep = 1.0 / 24.0;  ///< [s]; more substeps when advance() asks for more

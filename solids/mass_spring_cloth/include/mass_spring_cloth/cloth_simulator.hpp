@@ -25,9 +25,9 @@ namespace shellflow::cloth {
 
 struct StepStatistics {
   int substeps = 0;
-  int cg_iterations = 0;       ///< summed over the substeps of the last advance()
-  double cg_error = 0.0;       ///< largest relative residual of those solves
-  int collider_contacts = 0;   ///< node–analytic-collider contacts (summed over substeps)
+  int cg_iterations = 0;           ///< summed over the substeps of the last advance()
+  double cg_error = 0.0;           ///< largest relative residual of those solves
+  int collider_contacts = 0;       ///< node–analytic-collider contacts (summed over substeps)
   CollisionStatistics collisions;  ///< summed over substeps
 };
 
@@ -94,7 +94,7 @@ class ClothSimulator {
   Eigen::VectorXd m_x, m_v, m_external;
   std::vector<int> m_constraint;  ///< per node: kFree, kPinned or a path index
   std::vector<KinematicPath> m_paths;
-  Eigen::VectorXd m_anchor;       ///< positions of constrained nodes when constrained
+  Eigen::VectorXd m_anchor;  ///< positions of constrained nodes when constrained
   std::vector<AnalyticCollider> m_colliders;
 
   // Other solids' surfaces (appended after the cloth nodes in the collision mesh).

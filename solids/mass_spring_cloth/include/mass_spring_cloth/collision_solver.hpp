@@ -44,12 +44,12 @@ class CollisionSolver {
   /// Changes `v` so that moving from `x0` by h * v neither leaves pairs closer than the
   /// thickness approaching nor lets any point pass through any triangle or edge through
   /// edge. Nodes with zero inverse mass keep their velocity.
-  CollisionStatistics resolve(const Vectors& x0, Vectors& v, const std::vector<double>& inverse_mass,
-                              double h);
+  CollisionStatistics resolve(const Vectors& x0, Vectors& v,
+                              const std::vector<double>& inverse_mass, double h);
 
  private:
   struct Contact {
-    std::array<int, 4> nodes;     ///< point/triangle or edge/edge nodes
+    std::array<int, 4> nodes;       ///< point/triangle or edge/edge nodes
     std::array<double, 4> weights;  ///< relative velocity = sum w_k v_k
     Eigen::Vector3d normal;
     double target_speed;  ///< wanted relative normal velocity [m/s]
@@ -60,12 +60,14 @@ class CollisionSolver {
   };
 
   void find_candidates(const Vectors& a, const Vectors& b, double pad, Candidates& out) const;
-  void proximity_contacts(const Vectors& x0, const Vectors& v, const std::vector<double>& inverse_mass,
-                          double h, const Candidates& pairs, std::vector<Contact>& out) const;
-  void ccd_contacts(const Vectors& x0, const Vectors& v, const std::vector<double>& inverse_mass, double h,
-                    const Candidates& pairs, const std::vector<char>* active,
+  void proximity_contacts(const Vectors& x0, const Vectors& v,
+                          const std::vector<double>& inverse_mass, double h,
+                          const Candidates& pairs, std::vector<Contact>& out) const;
+  void ccd_contacts(const Vectors& x0, const Vectors& v, const std::vector<double>& inverse_mass,
+                    double h, const Candidates& pairs, const std::vector<char>* active,
                     std::vector<Contact>& out) const;
-  void apply(const Contact& c, Vectors& v, const std::vector<double>& inverse_mass, double friction) const;
+  void apply(const Contact& c, Vectors& v, const std::vector<double>& inverse_mass,
+             double friction) const;
 
   std::vector<std::array<int, 3>> m_triangles;
   std::vector<std::array<int, 2>> m_edges;

@@ -20,7 +20,7 @@ Eigen::Vector2d closest_points_segments(const Eigen::Vector3d& p0, const Eigen::
 /// Times t in [0, 1], increasing, where x0 + t v0, ..., x3 + t v3 are coplanar; returns the
 /// count. `x` start positions, `d` displacements over the step. Roots are isolated between
 /// the cubic's critical points and refined by bisection.
-int coplanarity_times(const std::array<Eigen::Vector3d, 4>& x, const std::array<Eigen::Vector3d, 4>& d,
-                      std::array<double, 3>& times);
+int coplanarity_times(const std::array<Eigen::Vector3d, 4>& x,
+                      const std::array<Eigen::Vector3d, 4>& d, std::array<double, 3>& times);
 
 }  // namespace shellflow::cloth
