@@ -19,15 +19,19 @@ sdk::Schema body_schema() {
                                           "\"<instance>/<name>\""))
       .field("mesh", geometry::mesh_schema())
       .field("transform", geometry::transform_schema().optional())
-      .field("surface_density", Schema::number(1.0).min(0.0, false).unit("kg/m^2")
-                                    .doc("mass per unit area of the shell"))
-      .field("motion", Schema::string("dynamic").one_of({"dynamic", "kinematic"})
+      .field(
+          "surface_density",
+          Schema::number(1.0).min(0.0, false).unit("kg/m^2").doc("mass per unit area of the shell"))
+      .field("motion", Schema::string("dynamic")
+                           .one_of({"dynamic", "kinematic"})
                            .doc("dynamic: moved by gravity, contacts and the fluid; "
                                 "kinematic: moves at the given constant velocities"))
-      .field("velocity", Schema::vec3(0.0, 0.0, 0.0).unit("m/s")
+      .field("velocity", Schema::vec3(0.0, 0.0, 0.0)
+                             .unit("m/s")
                              .doc("initial (dynamic) or constant (kinematic) velocity of the "
                                   "centre of mass"))
-      .field("angular_velocity", Schema::vec3(0.0, 0.0, 0.0).unit("rad/s")
+      .field("angular_velocity", Schema::vec3(0.0, 0.0, 0.0)
+                                     .unit("rad/s")
                                      .doc("initial (dynamic) or constant (kinematic) angular "
                                           "velocity about the centre of mass"))
       .field("friction", Schema::number(0.9).min(0.0).doc(
@@ -59,13 +63,17 @@ sdk::Schema BulletRigidSolver::schema() {
              "meshes (GImpact), fluid forces summed into a force and torque per body (§5.1).")
       .field("bodies", Schema::array(body_schema()).min_items(1).doc("the rigid shells"))
       .field("ground", ground_schema().optional())
-      .field("substep", Schema::number(1.0 / 240.0).min(0.0, false).unit("s").doc(
-                            "longest internal Bullet step: advance(dt) takes ceil(dt/substep) "
-                            "equal steps"))
-      .field("margin", Schema::number(0.005).min(0.0, false).unit("m").doc(
-                           "collision skin of every shell: contacts start at this distance"))
-      .field("solver_iterations", Schema::integer(10).min(1).doc(
-                                      "sequential-impulse contact iterations per substep"));
+      .field("substep", Schema::number(1.0 / 240.0)
+                            .min(0.0, false)
+                            .unit("s")
+                            .doc("longest internal Bullet step: advance(dt) takes ceil(dt/substep) "
+                                 "equal steps"))
+      .field("margin", Schema::number(0.005)
+                           .min(0.0, false)
+                           .unit("m")
+                           .doc("collision skin of every shell: contacts start at this distance"))
+      .field("solver_iterations",
+             Schema::integer(10).min(1).doc("sequential-impulse contact iterations per substep"));
 }
 
 RigidWorldSettings settings_from_json(const nlohmann::json& params, const sdk::Context& context) {
@@ -80,8 +88,9 @@ RigidWorldSettings settings_from_json(const nlohmann::json& params, const sdk::C
     ground.height = g.value("height", 0.0);
     if (g.contains("normal")) ground.normal = sdk::json_vec3(g, "normal");
     if (!(ground.normal.norm() > 0.0))
-      throw ConfigError("/ground/normal", "the ground normal is the zero vector; give the "
-                                          "direction pointing into the world, e.g. [0, 1, 0]");
+      throw ConfigError("/ground/normal",
+                        "the ground normal is the zero vector; give the "
+                        "direction pointing into the world, e.g. [0, 1, 0]");
     ground.normal.normalize();
     ground.friction = g.value("friction", 1.0);
     ground.restitution = g.value("restitution", 1.0);
@@ -114,7 +123,7 @@ std::vector<RigidShellSpec> bodies_from_json(const nlohmann::json& params) {
       throw ConfigError(path + "/mesh", "the mesh has no triangles");
     b.surface_density = j.value("surface_density", 1.0);
     b.motion = j.value("motion", std::string("dynamic")) == "kinematic" ? Motion::Kinematic
-                                                                         : Motion::Dynamic;
+                                                                        : Motion::Dynamic;
     if (j.contains("velocity")) b.velocity = sdk::json_vec3(j, "velocity");
     if (j.contains("angular_velocity")) b.angular_velocity = sdk::json_vec3(j, "angular_velocity");
     b.friction = j.value("friction", 0.9);
@@ -127,8 +136,8 @@ std::vector<RigidShellSpec> bodies_from_json(const nlohmann::json& params) {
 BulletRigidSolver::BulletRigidSolver(const nlohmann::json& params, const sdk::Context& context) {
   auto bodies = bodies_from_json(params);
   try {
-    m_world = std::make_unique<RigidShellWorld>(settings_from_json(params, context),
-                                                std::move(bodies));
+    m_world =
+        std::make_unique<RigidShellWorld>(settings_from_json(params, context), std::move(bodies));
   } catch (const ConfigError&) {
     throw;
   } catch (const Error& e) {
@@ -139,8 +148,7 @@ BulletRigidSolver::BulletRigidSolver(const nlohmann::json& params, const sdk::Co
     sdk::ShellSurface s;
     s.name = context.instance_name + "/" + spec.name;
     s.triangles = std::make_shared<const sdk::Triangles>(spec.mesh.triangles);
-    s.surface_density = Eigen::VectorXd::Constant(spec.mesh.triangles.rows(),
-                                                  spec.surface_density);
+    s.surface_density = Eigen::VectorXd::Constant(spec.mesh.triangles.rows(), spec.surface_density);
     s.receives_fluid_forces = spec.motion == Motion::Dynamic;
     m_surfaces.push_back(std::move(s));
   }
@@ -149,7 +157,9 @@ BulletRigidSolver::BulletRigidSolver(const nlohmann::json& params, const sdk::Co
 
 BulletRigidSolver::~BulletRigidSolver() = default;
 
-std::span<const sdk::ShellSurface> BulletRigidSolver::surfaces() const { return m_surfaces; }
+std::span<const sdk::ShellSurface> BulletRigidSolver::surfaces() const {
+  return m_surfaces;
+}
 
 void BulletRigidSolver::update_surfaces() {
   for (int i = 0; i < m_world->body_count(); ++i) {
@@ -179,7 +189,9 @@ void BulletRigidSolver::advance(double t, double dt,
   update_surfaces();
 }
 
-void BulletRigidSolver::save(sdk::StateWriter& out) const { m_world->save(out); }
+void BulletRigidSolver::save(sdk::StateWriter& out) const {
+  m_world->save(out);
+}
 
 void BulletRigidSolver::restore(sdk::StateReader& in) {
   m_world->restore(in);

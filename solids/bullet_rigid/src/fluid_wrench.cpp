@@ -23,7 +23,9 @@ Wrench sum_triangle_forces(const sdk::Positions& positions, const sdk::Triangles
     const Eigen::Vector3d f = forces.row(t).transpose();
     const Eigen::Vector3d barycentre =
         (positions.row(triangles(t, 0)) + positions.row(triangles(t, 1)) +
-         positions.row(triangles(t, 2))).transpose() / 3.0;
+         positions.row(triangles(t, 2)))
+            .transpose() /
+        3.0;
     w.force += f;
     w.torque += (barycentre - centre_of_mass).cross(f);
   }

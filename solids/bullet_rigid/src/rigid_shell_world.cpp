@@ -32,8 +32,12 @@ namespace {
 
 constexpr std::uint32_t kStateTag = 0x42524731;  // "BRG1": bullet_rigid state, version 1
 
-btVector3 to_bt(const Eigen::Vector3d& v) { return btVector3(v.x(), v.y(), v.z()); }
-Eigen::Vector3d to_eigen(const btVector3& v) { return Eigen::Vector3d(v.x(), v.y(), v.z()); }
+btVector3 to_bt(const Eigen::Vector3d& v) {
+  return btVector3(v.x(), v.y(), v.z());
+}
+Eigen::Vector3d to_eigen(const btVector3& v) {
+  return Eigen::Vector3d(v.x(), v.y(), v.z());
+}
 btMatrix3x3 to_bt_basis(const Eigen::Matrix3d& m) {
   return btMatrix3x3(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2), m(2, 0), m(2, 1),
                      m(2, 2));
@@ -76,13 +80,13 @@ bool finite(const btVector3& v) {
 struct Body {
   RigidShellSpec spec;
   ShellMassProperties mass;
-  sdk::Positions local;         ///< node coordinates in the principal frame
-  std::vector<int> indices;     ///< triangles, for Bullet's mesh interface
+  sdk::Positions local;            ///< node coordinates in the principal frame
+  std::vector<int> indices;        ///< triangles, for Bullet's mesh interface
   std::vector<btScalar> vertices;  ///< `local`, for Bullet's mesh interface
   std::unique_ptr<btTriangleIndexVertexArray> mesh;
   std::unique_ptr<btGImpactMeshShape> shape;
   std::unique_ptr<btRigidBody> rigid;
-  Eigen::Vector3d start_centre = Eigen::Vector3d::Zero();         ///< kinematic pose at t = 0
+  Eigen::Vector3d start_centre = Eigen::Vector3d::Zero();  ///< kinematic pose at t = 0
   Eigen::Matrix3d start_rotation = Eigen::Matrix3d::Identity();
 
   bool dynamic() const { return spec.motion == Motion::Dynamic; }
@@ -189,8 +193,7 @@ RigidShellWorld::RigidShellWorld(const RigidWorldSettings& settings,
 
   for (auto& spec : specs) {
     auto b = std::make_unique<Body>();
-    b->mass = shell_mass_properties(spec.mesh.positions, spec.mesh.triangles,
-                                    spec.surface_density);
+    b->mass = shell_mass_properties(spec.mesh.positions, spec.mesh.triangles, spec.surface_density);
     const Eigen::Matrix3d& axes = b->mass.principal_axes;
     const Eigen::Vector3d& centre = b->mass.centre_of_mass;
     // Principal-frame coordinates p = Rᵀ (x − c).
@@ -235,9 +238,13 @@ RigidShellWorld::RigidShellWorld(const RigidWorldSettings& settings,
 
 RigidShellWorld::~RigidShellWorld() = default;
 
-int RigidShellWorld::body_count() const { return static_cast<int>(m_impl->bodies.size()); }
+int RigidShellWorld::body_count() const {
+  return static_cast<int>(m_impl->bodies.size());
+}
 
-const RigidShellSpec& RigidShellWorld::spec(int body) const { return m_impl->body(body).spec; }
+const RigidShellSpec& RigidShellWorld::spec(int body) const {
+  return m_impl->body(body).spec;
+}
 
 const ShellMassProperties& RigidShellWorld::mass_properties(int body) const {
   return m_impl->body(body).mass;
@@ -286,12 +293,12 @@ void RigidShellWorld::advance(double t, double dt, std::span<const Wrench> wrenc
   if (!(dt > 0.0) || !std::isfinite(dt))
     throw Error("RigidShellWorld::advance: dt = " + std::to_string(dt) + " s; it must be positive");
   if (!wrenches.empty() && wrenches.size() != impl.bodies.size())
-    throw Error("RigidShellWorld::advance: " + std::to_string(wrenches.size()) +
-                " wrenches for " + std::to_string(impl.bodies.size()) + " bodies");
+    throw Error("RigidShellWorld::advance: " + std::to_string(wrenches.size()) + " wrenches for " +
+                std::to_string(impl.bodies.size()) + " bodies");
   // Equal substeps no longer than max_substep (the relative 1e-12 keeps dt = k·max_substep
   // from rounding up to k + 1 steps).
-  const int n = std::max(1, static_cast<int>(std::ceil(dt / impl.settings.max_substep *
-                                                       (1.0 - 1e-12))));
+  const int n =
+      std::max(1, static_cast<int>(std::ceil(dt / impl.settings.max_substep * (1.0 - 1e-12))));
   const double h = dt / n;
 
   impl.rebuild_world();
@@ -325,9 +332,13 @@ void RigidShellWorld::advance(double t, double dt, std::span<const Wrench> wrenc
   }
 }
 
-int RigidShellWorld::last_substeps() const { return m_impl->last_substeps; }
+int RigidShellWorld::last_substeps() const {
+  return m_impl->last_substeps;
+}
 
-int RigidShellWorld::contact_count() const { return m_impl->contacts; }
+int RigidShellWorld::contact_count() const {
+  return m_impl->contacts;
+}
 
 double RigidShellWorld::kinetic_energy() const {
   double e = 0.0;

@@ -32,8 +32,8 @@ ShellMassProperties shell_mass_properties(const sdk::Positions& positions,
     mass += m;
     first += (m / 3.0) * s;
     // A/12 (a aᵀ + b bᵀ + c cᵀ + s sᵀ): the second moment of a triangle of area A.
-    second += (m / 12.0) * (a * a.transpose() + b * b.transpose() + c * c.transpose() +
-                            s * s.transpose());
+    second += (m / 12.0) *
+              (a * a.transpose() + b * b.transpose() + c * c.transpose() + s * s.transpose());
   }
   if (!(area > 0.0))
     throw Error("shell_mass_properties: the mesh has zero area (" +
@@ -59,8 +59,7 @@ ShellMassProperties shell_mass_properties(const sdk::Positions& positions,
 }
 
 ShellMassProperties shell_mass_properties(const sdk::Positions& positions,
-                                          const sdk::Triangles& triangles,
-                                          double surface_density) {
+                                          const sdk::Triangles& triangles, double surface_density) {
   return shell_mass_properties(positions, triangles,
                                Eigen::VectorXd::Constant(triangles.rows(), surface_density));
 }

@@ -13,8 +13,8 @@ ShellPlaneCollision::ShellPlaneCollision(const btCollisionAlgorithmConstructionI
                                          const btCollisionObjectWrapper* body0,
                                          const btCollisionObjectWrapper* body1)
     : btActivatingCollisionAlgorithm(info, body0, body1) {
-  m_manifold = m_dispatcher->getNewManifold(body0->getCollisionObject(),
-                                            body1->getCollisionObject());
+  m_manifold =
+      m_dispatcher->getNewManifold(body0->getCollisionObject(), body1->getCollisionObject());
 }
 
 ShellPlaneCollision::~ShellPlaneCollision() {

@@ -47,7 +47,7 @@ void BM_FreeSpheresFrame(benchmark::State& state) {
   nlohmann::json params = {{"bodies", nlohmann::json::array()}};
   for (int i = 0; i < n; ++i)
     params["bodies"].push_back(
-        {{"name", "s" + std::to_string(i)},
+        {{"name", std::to_string(i)},
          {"mesh", {{"type", "sphere"}, {"radius", 0.1}, {"subdivisions", 3}}},
          {"transform", {{"translate", {0.5 * i, 10.0, 0.0}}}}});
   BulletRigidSolver solver(params, context());

@@ -45,7 +45,7 @@ TEST(BulletRigidSolver, EachBodyIsOneNamedSurface) {
   EXPECT_EQ(surfaces[0].triangle_count(), 320);     // icosphere level 2: 20·4²
   EXPECT_EQ(surfaces[0].surface_density.size(), 320);
   EXPECT_EQ(surfaces[0].surface_density[7], 2.0);
-  EXPECT_EQ(surfaces[1].surface_density[0], 1.0);   // the schema's default
+  EXPECT_EQ(surfaces[1].surface_density[0], 1.0);  // the schema's default
   EXPECT_EQ(surfaces[1].velocities.rows(), surfaces[1].positions.rows());
   // The transform placed the meshes: the ball's nodes lie on a sphere about (0, 1, 0).
   const Eigen::Vector3d centre(0, 1, 0);
@@ -94,8 +94,7 @@ TEST(BulletRigidSolver, TriangleForcesBecomeForceAndTorqueAboutTheMassCentre) {
   {
     // Uniform pressure on the closed ball: no net force or torque, the ball stays put
     // (zero up to the round-off of the force sum, ~1e-13 of p·A; see fluid_wrench_test).
-    std::vector<sdk::TriangleVectors> forces{pressure_forces(ball, 1000.0),
-                                             sdk::TriangleVectors()};
+    std::vector<sdk::TriangleVectors> forces{pressure_forces(ball, 1000.0), sdk::TriangleVectors()};
     solver.advance(0.0, dt, forces);
     const auto s = solver.world().state(0);
     EXPECT_LT(s.velocity.norm(), 1e-12);
@@ -113,8 +112,10 @@ TEST(BulletRigidSolver, TriangleForcesBecomeForceAndTorqueAboutTheMassCentre) {
     forces.row(j) = -f.transpose();
     auto barycentre = [&](int t) {
       const auto& tri = *s.triangles;
-      return Eigen::Vector3d((s.positions.row(tri(t, 0)) + s.positions.row(tri(t, 1)) +
-                              s.positions.row(tri(t, 2))).transpose() / 3.0);
+      return Eigen::Vector3d(
+          (s.positions.row(tri(t, 0)) + s.positions.row(tri(t, 1)) + s.positions.row(tri(t, 2)))
+              .transpose() /
+          3.0);
     };
     const Eigen::Vector3d torque = (barycentre(i) - barycentre(j)).cross(f);
     ASSERT_GT(torque.norm(), 0.1);  // the chosen triangles make a real couple
@@ -137,8 +138,7 @@ TEST(BulletRigidSolver, ForcesOnKinematicBodiesAreIgnoredAndSizesChecked) {
   BulletRigidSolver solver(two_bodies(), context());
   const auto& cup = solver.surfaces()[1];
   const Eigen::Vector3d before = solver.world().state(1).centre_of_mass;
-  std::vector<sdk::TriangleVectors> forces{sdk::TriangleVectors(),
-                                           pressure_forces(cup, 1e6)};
+  std::vector<sdk::TriangleVectors> forces{sdk::TriangleVectors(), pressure_forces(cup, 1e6)};
   solver.advance(0.0, 0.5, forces);
   // Kinematic: moved by its own velocity (0, 0, 0.1) m/s only.
   EXPECT_LT((solver.world().state(1).centre_of_mass - before - Eigen::Vector3d(0, 0, 0.05)).norm(),
@@ -158,7 +158,7 @@ TEST(BulletRigidSolver, ReportAndSaveRestoreThroughTheInterface) {
   ASSERT_EQ(metrics.values().size(), 4u);
   EXPECT_EQ(metrics.values()[0].first, "kinetic_energy");
   EXPECT_EQ(metrics.values()[2].first, "contacts");
-  EXPECT_GT(metrics.values()[2].second, 0.0);  // the ball has landed (dropped from 0.7 m)
+  EXPECT_GT(metrics.values()[2].second, 0.0);   // the ball has landed (dropped from 0.7 m)
   EXPECT_EQ(metrics.values()[3].second, 10.0);  // (1/24) / (1/240)
 
   sdk::StateBuffer state;

@@ -70,7 +70,9 @@ TEST(FluidWrench, OneForceActsAtItsTrianglesBarycentre) {
   f.row(t) = force.transpose();
   const Eigen::Vector3d barycentre =
       (mesh.positions.row(mesh.triangles(t, 0)) + mesh.positions.row(mesh.triangles(t, 1)) +
-       mesh.positions.row(mesh.triangles(t, 2))).transpose() / 3.0;
+       mesh.positions.row(mesh.triangles(t, 2)))
+          .transpose() /
+      3.0;
   const Wrench w = sum_triangle_forces(mesh.positions, mesh.triangles, f, centre);
   // A single term: exact up to one rounding per operation (1e-15 at these magnitudes).
   EXPECT_LT((w.force - force).norm(), 1e-15);
@@ -83,8 +85,8 @@ TEST(FluidWrench, EmptyForcesGiveZeroAndWrongSizesThrow) {
                                        Eigen::Vector3d::Zero());
   EXPECT_EQ(w.force, Eigen::Vector3d::Zero());
   EXPECT_EQ(w.torque, Eigen::Vector3d::Zero());
-  EXPECT_THROW(sum_triangle_forces(mesh.positions, mesh.triangles,
-                                   sdk::TriangleVectors::Zero(3, 3), Eigen::Vector3d::Zero()),
+  EXPECT_THROW(sum_triangle_forces(mesh.positions, mesh.triangles, sdk::TriangleVectors::Zero(3, 3),
+                                   Eigen::Vector3d::Zero()),
                Error);
 }
 

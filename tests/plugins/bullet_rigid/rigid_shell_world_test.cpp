@@ -90,16 +90,15 @@ TEST(RigidShellWorld, FreeFallFollowsTheAnalyticTrajectory) {
   for (Eigen::Index i = 0; i < x.rows(); ++i) {
     const Eigen::Vector3d r = rotation * (initial.row(i).transpose() - c0);
     position_error = std::max(position_error, (x.row(i).transpose() - (discrete + r)).norm());
-    velocity_error = std::max(velocity_error,
-                              (v.row(i).transpose() - (state.velocity + w0.cross(r))).norm());
+    velocity_error =
+        std::max(velocity_error, (v.row(i).transpose() - (state.velocity + w0.cross(r))).norm());
   }
   EXPECT_LT(position_error, 1e-10);  // round-off of 240 rotation updates
   EXPECT_LT(velocity_error, 1e-10);
 
   // Kinetic energy: ½ m |v|² + ½ ωᵀ I ω with the shell inertia.
   const auto& mp = world.mass_properties(0);
-  const double ke = 0.5 * mp.mass * state.velocity.squaredNorm() +
-                    0.5 * w0.dot(mp.inertia * w0);
+  const double ke = 0.5 * mp.mass * state.velocity.squaredNorm() + 0.5 * w0.dot(mp.inertia * w0);
   EXPECT_NEAR(world.kinetic_energy(), ke, 1e-12 * ke);
 }
 
@@ -126,8 +125,8 @@ TEST(RigidShellWorld, TorqueGivesTheAngularAccelerationOfTheShellInertia) {
     // About a principal axis: ω stays along it (no gyroscopic torque), so α = τ / I_k
     // for the whole run; ω(T) = α T exactly and the angle is the symplectic-Euler sum
     // α h² n (n + 1) / 2.
-    RigidShellWorld world(no_gravity(), {body("cup", geometry::make_open_box({a, b, c}, 2),
-                                              placement)});
+    RigidShellWorld world(no_gravity(),
+                          {body("cup", geometry::make_open_box({a, b, c}, 2), placement)});
     const Eigen::Vector3d axis = r.col(2);  // the box's z axis
     const double torque = 0.05;             // [N m]
     const std::vector<Wrench> wrench{{Eigen::Vector3d::Zero(), torque * axis}};
@@ -138,7 +137,8 @@ TEST(RigidShellWorld, TorqueGivesTheAngularAccelerationOfTheShellInertia) {
     // Round-off (the inverse inertia passes through a quaternion each substep): 1e-11.
     EXPECT_LT((state.angular_velocity - alpha * 0.5 * axis).norm(), 1e-11 * alpha);
     const double n = 120.0, h = kSubstep;
-    const Eigen::Matrix3d turned = state.rotation * world.mass_properties(0).principal_axes.transpose();
+    const Eigen::Matrix3d turned =
+        state.rotation * world.mass_properties(0).principal_axes.transpose();
     const Eigen::AngleAxisd angle(turned);
     EXPECT_NEAR(std::abs(angle.angle()), alpha * h * h * n * (n + 1) / 2, 1e-10);
     // The centre of mass does not move under a pure torque.
@@ -212,8 +212,9 @@ TEST(RigidShellWorld, KinematicPlateLiftsABoxResting) {
   // moving with the plate and above it.
   RigidWorldSettings s;
   s.max_substep = kSubstep;
-  auto plate = body("plate", geometry::make_grid(2.0, 2.0, 5, 5, geometry::GridPattern::Alternating),
-                    placed({0, 0, 0}, -std::numbers::pi / 2, {1, 0, 0}));  // normal +y
+  auto plate =
+      body("plate", geometry::make_grid(2.0, 2.0, 5, 5, geometry::GridPattern::Alternating),
+           placed({0, 0, 0}, -std::numbers::pi / 2, {1, 0, 0}));  // normal +y
   plate.motion = Motion::Kinematic;
   plate.velocity = Eigen::Vector3d(0.0, 0.5, 0.0);
   auto box = body("box", geometry::make_box({0.4, 0.2, 0.3}, 2), placed({0, 0.11, 0}));
@@ -227,8 +228,8 @@ TEST(RigidShellWorld, KinematicPlateLiftsABoxResting) {
   sdk::Positions x;
   world.node_positions(1, x);
   const double plate_height = 0.5 * t;
-  EXPECT_GT(x.col(1).minCoeff(), plate_height);            // not fallen through
-  EXPECT_LT(x.col(1).minCoeff(), plate_height + 0.05);     // resting on it
+  EXPECT_GT(x.col(1).minCoeff(), plate_height);         // not fallen through
+  EXPECT_LT(x.col(1).minCoeff(), plate_height + 0.05);  // resting on it
 }
 
 TEST(RigidShellWorld, BoxShellSettlesOnTheGroundAtRest) {
@@ -238,8 +239,8 @@ TEST(RigidShellWorld, BoxShellSettlesOnTheGroundAtRest) {
   RigidWorldSettings s;
   s.max_substep = kSubstep;
   s.ground = GroundPlane{};
-  auto box = body("box", geometry::make_box({0.4, 0.2, 0.3}, 2),
-                  placed({0, 0.6, 0}, 0.45, {1, 0, 1}));
+  auto box =
+      body("box", geometry::make_box({0.4, 0.2, 0.3}, 2), placed({0, 0.6, 0}, 0.45, {1, 0, 1}));
   box.angular_velocity = Eigen::Vector3d(1.0, 0.5, -2.0);
   RigidShellWorld world(s, {box});
   double t = 0.0;
@@ -333,9 +334,8 @@ TEST(RigidShellWorld, SaveRestoreAdvanceIsBitForBit) {
   EXPECT_EQ(saved(world), first);  // byte-wise
   const auto second_nodes = nodes(world);
   ASSERT_EQ(first_nodes.size(), second_nodes.size());
-  EXPECT_EQ(std::memcmp(first_nodes.data(), second_nodes.data(),
-                        first_nodes.size() * sizeof(double)),
-            0);
+  EXPECT_EQ(
+      std::memcmp(first_nodes.data(), second_nodes.data(), first_nodes.size() * sizeof(double)), 0);
 
   // A freshly built world restored from the same bytes takes the same path (a
   // checkpoint restart).

@@ -33,8 +33,7 @@ TEST(ShellMassProperties, SquarePlateHasTheTextbookInertia) {
   EXPECT_NEAR(p.mass, m, kRoundOff * m);
   EXPECT_LT(p.centre_of_mass.norm(), kRoundOff);
   const Eigen::Matrix3d expected =
-      Eigen::Vector3d(m * side * side / 12, m * side * side / 12, m * side * side / 6)
-          .asDiagonal();
+      Eigen::Vector3d(m * side * side / 12, m * side * side / 12, m * side * side / 6).asDiagonal();
   EXPECT_LT(relative_error(p.inertia, expected), kRoundOff);
 }
 
@@ -73,7 +72,7 @@ BoxShellExpected box_shell_expected(double a, double b, double c, double sigma, 
     mass += m;
     first_y += m * centre.y();
   };
-  plate({0, -b / 2, 0}, {a, 0, c}, a * c);  // bottom
+  plate({0, -b / 2, 0}, {a, 0, c}, a * c);            // bottom
   if (!open) plate({0, b / 2, 0}, {a, 0, c}, a * c);  // top
   plate({-a / 2, 0, 0}, {0, b, c}, b * c);
   plate({a / 2, 0, 0}, {0, b, c}, b * c);

@@ -17,14 +17,14 @@ enum class Motion {
 };
 
 struct RigidShellSpec {
-  std::string name;                 ///< unique within the solver
-  geometry::SurfaceMesh mesh;       ///< world positions at t = 0
-  double surface_density = 1.0;     ///< [kg/m^2]
+  std::string name;              ///< unique within the solver
+  geometry::SurfaceMesh mesh;    ///< world positions at t = 0
+  double surface_density = 1.0;  ///< [kg/m^2]
   Motion motion = Motion::Dynamic;
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< of the centre of mass [m/s]
   Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< [rad/s]
-  double friction = 0.9;            ///< Coulomb coefficient (Bullet multiplies the pair's)
-  double restitution = 0.2;         ///< (Bullet multiplies the pair's)
+  double friction = 0.9;     ///< Coulomb coefficient (Bullet multiplies the pair's)
+  double restitution = 0.2;  ///< (Bullet multiplies the pair's)
 };
 
 /// The plane {x : normal · x = height} bounding the world from below.

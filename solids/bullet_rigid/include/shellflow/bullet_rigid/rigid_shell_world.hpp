@@ -30,10 +30,10 @@ namespace shellflow::bullet_rigid {
 
 /// Pose and velocity of a body's principal frame.
 struct RigidBodyState {
-  Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();     ///< world [m]
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();       ///< principal frame → world
-  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();           ///< [m/s]
-  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();   ///< world [rad/s]
+  Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();    ///< world [m]
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();      ///< principal frame → world
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();          ///< [m/s]
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();  ///< world [rad/s]
 };
 
 class RigidShellWorld {

@@ -18,10 +18,10 @@
 namespace shellflow::bullet_rigid {
 
 struct ShellMassProperties {
-  double area = 0.0;                                      ///< [m^2]
-  double mass = 0.0;                                      ///< [kg]
+  double area = 0.0;                                         ///< [m^2]
+  double mass = 0.0;                                         ///< [kg]
   Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();  ///< [m], frame of the positions
-  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();      ///< about the centre of mass [kg m^2]
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();         ///< about the centre of mass [kg m^2]
   /// Principal moments, ascending, and the principal axes as the columns of a rotation
   /// (det = +1): inertia = principal_axes · diag(principal_moments) · principal_axesᵀ.
   Eigen::Vector3d principal_moments = Eigen::Vector3d::Zero();
@@ -36,7 +36,6 @@ ShellMassProperties shell_mass_properties(const sdk::Positions& positions,
 
 /// Same, with one surface density for every triangle.
 ShellMassProperties shell_mass_properties(const sdk::Positions& positions,
-                                          const sdk::Triangles& triangles,
-                                          double surface_density);
+                                          const sdk::Triangles& triangles, double surface_density);
 
 }  // namespace shellflow::bullet_rigid
