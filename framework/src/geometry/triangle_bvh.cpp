@@ -8,6 +8,14 @@ TriangleBvh::TriangleBvh(const TriangleMesh& mesh, double max_degradation)
     : m_mesh(mesh), m_max_degradation(max_degradation) {
   m_mesh.boxes(m_boxes);
   m_bvh.build(m_boxes);
+  prepare();
+}
+
+void TriangleBvh::prepare() {
+  m_prepared.resize(m_mesh.triangle_count());
+  for (int t = 0; t < m_mesh.triangle_count(); ++t) {
+    m_prepared[t] = PreparedTriangle(m_mesh.corners(t));
+  }
 }
 
 bool TriangleBvh::update(const TriangleMesh& mesh) {
@@ -16,6 +24,7 @@ bool TriangleBvh::update(const TriangleMesh& mesh) {
   }
   m_mesh = mesh;
   m_mesh.boxes(m_boxes);
+  prepare();
   return m_bvh.refit_or_rebuild(m_boxes, m_max_degradation);
 }
 

@@ -166,19 +166,39 @@ SegmentTriangleClosest closest_segment_triangle(const Eigen::Vector3d& a, const 
   return best;
 }
 
+PreparedTriangle::PreparedTriangle(const TriangleCorners& c) : corners(c) {
+  const Eigen::Vector3d n = (c[1] - c[0]).cross(c[2] - c[0]);
+  degenerate = geometry::degenerate(c, n);
+  if (!degenerate) unit_normal = n / n.norm();
+}
+
+bool segment_near_triangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                           const PreparedTriangle& t, double r) {
+  if (t.slab_separates(a, b, r)) return false;
+  if (!t.degenerate) {
+    const double da = t.plane_distance(a);
+    const double db = t.plane_distance(b);
+    if ((da <= 0.0 && db >= 0.0) || (da >= 0.0 && db <= 0.0)) {
+      // The segment meets the plane at q; q inside the triangle (all three edge
+      // functions on the normal's side) means distance 0 <= r. Round-off can only
+      // misplace q by ~1e-16 of the coordinates, far below r (see wedge_caster.hpp).
+      const double s = da != db ? std::clamp(da / (da - db), 0.0, 1.0) : 0.0;
+      const Eigen::Vector3d q = a + s * (b - a);
+      const TriangleCorners& c = t.corners;
+      const Eigen::Vector3d& n = t.unit_normal;
+      if ((c[1] - c[0]).cross(q - c[0]).dot(n) >= 0.0 &&
+          (c[2] - c[1]).cross(q - c[1]).dot(n) >= 0.0 &&
+          (c[0] - c[2]).cross(q - c[2]).dot(n) >= 0.0) {
+        return true;
+      }
+    }
+  }
+  return closest_segment_triangle(a, b, t.corners).distance2 <= r * r;
+}
+
 bool segment_near_triangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                            const TriangleCorners& c, double r) {
-  const Eigen::Vector3d n = (c[1] - c[0]).cross(c[2] - c[0]);
-  const double nn = n.squaredNorm();
-  if (!degenerate(c, n)) {
-    // Plane-slab rejection: both endpoints farther than r on the same side. Exact for
-    // any plane through the triangle, so it is skipped when the normal is round-off.
-    const double rn = r * std::sqrt(nn);
-    const double da = n.dot(a - c[0]);
-    const double db = n.dot(b - c[0]);
-    if ((da > rn && db > rn) || (da < -rn && db < -rn)) return false;
-  }
-  return closest_segment_triangle(a, b, c).distance2 <= r * r;
+  return segment_near_triangle(a, b, PreparedTriangle(c), r);
 }
 
 }  // namespace shellflow::geometry

@@ -52,6 +52,36 @@ SegmentTriangleClosest closest_segment_triangle(const Eigen::Vector3d& a, const 
 bool segment_near_triangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                            const TriangleCorners& c, double r);
 
+/// A triangle with its plane precomputed for repeated wedge tests (§3, Fig. 3).
+struct PreparedTriangle {
+  TriangleCorners corners;
+  /// Unit normal of (c1 - c0) x (c2 - c0); zero when the triangle is degenerate (its
+  /// normal is round-off), and then no plane test is made.
+  Eigen::Vector3d unit_normal = Eigen::Vector3d::Zero();
+  bool degenerate = true;
+
+  PreparedTriangle() = default;
+  explicit PreparedTriangle(const TriangleCorners& c);
+
+  /// Signed distance of p to the triangle's plane (0 for a degenerate triangle).
+  double plane_distance(const Eigen::Vector3d& p) const { return unit_normal.dot(p - corners[0]); }
+  /// Plane-slab rejection: are both a and b farther than r from the plane, on the same
+  /// side? Then the segment is farther than r from the triangle. Exact for any plane
+  /// through the triangle, so never true for a degenerate one.
+  bool slab_separates(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double r) const {
+    if (degenerate) return false;
+    const double da = plane_distance(a);
+    const double db = plane_distance(b);
+    return (da > r && db > r) || (da < -r && db < -r);
+  }
+};
+
+/// segment_near_triangle for a prepared triangle: the plane-slab rejection, then a quick
+/// accept when the segment crosses the plane inside the triangle (distance 0), then the
+/// exact closest-pair distance.
+bool segment_near_triangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                           const PreparedTriangle& t, double r);
+
 /// Squared distance of p to the triangle.
 inline double point_triangle_distance2(const Eigen::Vector3d& p, const TriangleCorners& c) {
   return (closest_point_on_triangle(p, c).point - p).squaredNorm();
