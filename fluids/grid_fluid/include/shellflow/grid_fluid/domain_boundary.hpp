@@ -1,0 +1,48 @@
+#pragma once
+// DomainBoundary: the condition on each of the six faces of the domain box (§4.3):
+//   Wall    Neumann, normal velocity 0 (free slip);
+//   Open    outflow, Dirichlet p = 0 outside the face;
+//   Inflow  Neumann, normal velocity given (the full given vector is imposed on the face's
+//           normal component; tangential components enter through the node fields).
+// Sides are numbered 2 * axis + (0 for the min face, 1 for the max face).
+
+#include <Eigen/Core>
+#include <array>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "shellflow/sdk/schema.hpp"
+
+namespace shellflow::grid_fluid {
+
+enum class BoundaryType { Wall, Open, Inflow };
+
+struct FaceCondition {
+  BoundaryType type = BoundaryType::Wall;
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< Inflow only [m/s]
+};
+
+class DomainBoundary {
+ public:
+  static constexpr std::array<const char*, 6> kSideNames = {"x_min", "x_max", "y_min",
+                                                            "y_max", "z_min", "z_max"};
+
+  /// Every side a wall.
+  DomainBoundary() = default;
+  /// From a validated "boundary" object (schema()). Throws ConfigError at
+  /// `json_path`/<side> for an inflow whose velocity points out of the domain.
+  DomainBoundary(const nlohmann::json& spec, const std::string& json_path);
+
+  static sdk::Schema schema();
+
+  const FaceCondition& side(int axis, int max_side) const { return m_sides[2 * axis + max_side]; }
+  FaceCondition& side(int axis, int max_side) { return m_sides[2 * axis + max_side]; }
+  /// Does any side let fluid out (an open side)? Without one, the whole domain is an
+  /// enclosed region that needs the §4.3 compatibility correction.
+  bool has_open_side() const;
+
+ private:
+  std::array<FaceCondition, 6> m_sides;
+};
+
+}  // namespace shellflow::grid_fluid

@@ -1,0 +1,56 @@
+#pragma once
+// FaceNodeTransfer: the mixed node/face scheme of §4.2 (Guendelman et al. 2005).
+//  - faces_to_nodes: component a of the velocity at a node is the average of the (up to)
+//    four faces of family a around it, using only faces *visible* from the node; with no
+//    visible face, the average of the object velocities where the rays met the shell.
+//  - increments_to_faces: the node increments Δu = u* − u^n are averaged back to each face
+//    from its four nodes, using only visible nodes, and added to the persistent face
+//    velocity; with no visible node the face takes the object velocity instead.
+// Faces swept by a moving shell (§3) carry values from the other side: they take the
+// average of the visible nodes' u* (refilled, already valid) instead of an increment.
+// Ray casts happen only for samples in the shell band; elsewhere the plain averages run.
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid_fluid/domain_boundary.hpp"
+#include "shellflow/grid_fluid/mac_grid.hpp"
+#include "shellflow/grid_fluid/node_fields.hpp"
+#include "shellflow/grid_fluid/shell_geometry.hpp"
+
+namespace shellflow::grid_fluid {
+
+class FaceNodeTransfer {
+ public:
+  explicit FaceNodeTransfer(const grid::UniformGrid& grid) : m_grid(grid) {}
+
+  /// Node velocities from the face velocities (§4.2). `band` may be null (no shells).
+  void faces_to_nodes(const MacGrid& mac, NodeFields& nodes, const ShellGeometry& shells,
+                      const geometry::ShellBand* band) const;
+
+  /// Adds the averaged increments u* − u^n to the faces (§4.2). `node_valid_before[i]` is
+  /// 0 for nodes that were swept this step (their increment is meaningless and is not
+  /// used); `face_swept[a]` flags faces of family a swept by the shells (may be empty).
+  /// Faces fixed by a wall or inflow condition are left alone.
+  void increments_to_faces(MacGrid& mac, const NodeFields& u_star,
+                           const std::array<std::vector<double>, 3>& u_n,
+                           std::span<const std::uint8_t> node_valid_before,
+                           const std::array<std::vector<std::uint8_t>, 3>& face_swept,
+                           const ShellGeometry& shells, const geometry::ShellBand* band,
+                           const DomainBoundary& boundary) const;
+
+ private:
+  grid::UniformGrid m_grid;
+};
+
+/// Sets the wall (0) and inflow (given) normal velocities on the domain faces.
+void apply_boundary_velocities(MacGrid& mac, const DomainBoundary& boundary);
+/// Is face `ijk` of family `axis` on the domain boundary with a fixed (wall or inflow)
+/// normal velocity?
+bool fixed_boundary_face(const grid::UniformGrid& grid, const DomainBoundary& boundary, int axis,
+                         const Eigen::Vector3i& ijk);
+
+}  // namespace shellflow::grid_fluid

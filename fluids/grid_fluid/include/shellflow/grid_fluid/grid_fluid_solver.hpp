@@ -1,0 +1,123 @@
+#pragma once
+// GridFluid: the "grid_fluid" fluid plugin — smoke on a uniform MAC grid that never leaks
+// through thin shells (§3, §4.1–4.3, Guendelman et al. 2005).
+//
+// One step, as the §6 coupling loop calls it:
+//   advect(t, Δt, shells^n, shells^{n+1})
+//     1. faces → nodes with visibility (§4.2; done at the end of the last projection)
+//     2. semi-Lagrangian advection of velocity, density, temperature on the nodes with the
+//        doubled wedge and the 8 secondary rays (§4.1); fast path outside the shell band
+//     3. sources, buoyancy, vorticity confinement on the nodes (§4.1)
+//     4. shells move n → n+1: swept nodes invalidated and refilled (§3)
+//     5. increments u* − u^n averaged back to the persistent faces with visibility (§4.2)
+//   coupling_forces(...)  one-way coupling: forces stay zero (two-way §5.1 is issue 6)
+//   project(Δt, shells^{n+1}, v_eff)
+//     Neumann faces across shells with the effective velocity, flood fill, compatibility
+//     per enclosed region, PCG/MIC(0) or CHOLMOD per region (§4.3); then faces → nodes.
+
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <vector>
+
+#include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid_fluid/domain_boundary.hpp"
+#include "shellflow/grid_fluid/face_node_transfer.hpp"
+#include "shellflow/grid_fluid/mac_grid.hpp"
+#include "shellflow/grid_fluid/node_fields.hpp"
+#include "shellflow/grid_fluid/pressure_projection.hpp"
+#include "shellflow/grid_fluid/semi_lagrangian_advector.hpp"
+#include "shellflow/grid_fluid/shell_geometry.hpp"
+#include "shellflow/grid_fluid/smoke_forces.hpp"
+#include "shellflow/grid_fluid/smoke_source.hpp"
+#include "shellflow/grid_fluid/swept_refill.hpp"
+#include "shellflow/sdk/context.hpp"
+#include "shellflow/sdk/fluid_solver.hpp"
+#include "shellflow/sdk/schema.hpp"
+
+namespace shellflow::grid_fluid {
+
+/// What the last step did, for report() and tests.
+struct StepStats {
+  ProjectionStats projection;
+  SweptRefillStats refill;
+  std::int64_t band_nodes = 0;
+  std::int64_t source_nodes = 0;
+  double max_force = 0.0;
+};
+
+class GridFluid final : public sdk::FluidSolver {
+ public:
+  static sdk::Schema schema();
+  /// `params` validated against schema(). Throws ConfigError for values the schema
+  /// cannot check (an empty domain box, an inflow pointing out).
+  GridFluid(const nlohmann::json& params, const sdk::Context& context);
+
+  double stable_dt(double cfl) const override;
+  void advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSet shells_np1) override;
+  /// One-way coupling (this plugin, issue 4): the shells move the fluid through the
+  /// Neumann faces of the projection, but the fluid exerts NO force on them —
+  /// `triangle_forces` is left as the runtime passed it (zero). The §5.1 coupling
+  /// pressure solve (eq. (5)–(6)) arrives with the two-way coupling issue (issue 6).
+  void coupling_forces(double dt, sdk::ShellSet shells,
+                       std::span<sdk::TriangleVectors> triangle_forces) override;
+  void project(double dt, sdk::ShellSet shells,
+               std::span<const sdk::Positions> effective_velocity) override;
+  void save(sdk::StateWriter& out) const override;
+  void restore(sdk::StateReader& in) override;
+  std::vector<sdk::FieldView> fields() const override;
+  std::optional<std::string> find_nonfinite() const override;
+  void report(sdk::Metrics& out) const override;
+
+  // For tests and benchmarks.
+  const grid::UniformGrid& grid() const { return m_mac.grid(); }
+  MacGrid& mac() { return m_mac; }
+  const MacGrid& mac() const { return m_mac; }
+  NodeFields& nodes() { return m_nodes; }
+  const NodeFields& nodes() const { return m_nodes; }
+  const StepStats& last_step() const { return m_stats; }
+  const DomainBoundary& boundary() const { return m_boundary; }
+  double epsilon() const { return m_epsilon; }
+  bool temperature_enabled() const { return m_temperature; }
+  /// Recomputes the node velocities from the faces (§4.2) against `shells` (e.g. after a
+  /// test wrote face velocities directly).
+  void refresh_nodes(sdk::ShellSet shells);
+  /// Σ density Δx^3 over the nodes (smoke "mass").
+  double smoke_mass() const;
+
+ private:
+  /// Makes `cache` hold `shells` (rebuilds unless the positions match).
+  void ensure_geometry(std::unique_ptr<ShellGeometry>& cache, sdk::ShellSet shells) const;
+  static std::vector<sdk::Positions> velocities_of(sdk::ShellSet shells);
+  void build_band(sdk::ShellSet shells_n, sdk::ShellSet shells_np1, double margin);
+
+  sdk::Context m_context;
+  DomainBoundary m_boundary;
+  double m_epsilon = 0.0;
+  bool m_temperature = false;
+  BuoyancyParameters m_buoyancy;
+  double m_vorticity = 0.0;
+  std::vector<SmokeSource> m_sources;
+
+  MacGrid m_mac;
+  NodeFields m_nodes;
+  NodeFields m_next;
+  std::array<std::vector<double>, 3> m_u_n;
+  bool m_nodes_current = false;
+  double m_time = 0.0;
+
+  FaceNodeTransfer m_transfer;
+  SemiLagrangianAdvector m_advector;
+  SmokeForces m_forces;
+  SweptRefill m_refill;
+  PressureProjection m_projection;
+  geometry::ShellBand m_band;
+  bool m_band_used = false;
+  std::unique_ptr<ShellGeometry> m_geometry_n;
+  std::unique_ptr<ShellGeometry> m_geometry_np1;
+  double m_shell_speed = 0.0;
+  StepStats m_stats;
+  bool m_logged_one_way = false;
+};
+
+}  // namespace shellflow::grid_fluid

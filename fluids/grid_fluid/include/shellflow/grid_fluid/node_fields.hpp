@@ -1,0 +1,71 @@
+#pragma once
+// NodeFields: the values the node-based scheme of §4.2 carries on grid nodes — velocity
+// (three flat arrays, structure of arrays), smoke density and temperature — all indexed
+// by UniformGrid::index(Location::Node, ...), plus trilinear sampling.
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "shellflow/grid/uniform_grid.hpp"
+
+namespace shellflow::grid_fluid {
+
+/// One node's values, as a small vector for averaging (refill, interpolation):
+/// (u, v, w, density, temperature).
+using NodeSample = Eigen::Matrix<double, 5, 1>;
+
+class NodeFields {
+ public:
+  NodeFields() = default;
+  /// Zero velocity and density, temperature `ambient_temperature` [K].
+  NodeFields(const grid::UniformGrid& grid, double ambient_temperature);
+
+  std::int64_t size() const { return static_cast<std::int64_t>(m_density.size()); }
+  std::vector<double>& velocity(int axis) { return m_velocity[axis]; }
+  const std::vector<double>& velocity(int axis) const { return m_velocity[axis]; }
+  std::vector<double>& density() { return m_density; }
+  const std::vector<double>& density() const { return m_density; }
+  std::vector<double>& temperature() { return m_temperature; }
+  const std::vector<double>& temperature() const { return m_temperature; }
+
+  NodeSample sample(std::int64_t node) const {
+    NodeSample s;
+    s << m_velocity[0][node], m_velocity[1][node], m_velocity[2][node], m_density[node],
+        m_temperature[node];
+    return s;
+  }
+  void set(std::int64_t node, const NodeSample& s) {
+    for (int a = 0; a < 3; ++a) m_velocity[a][node] = s[a];
+    m_density[node] = s[3];
+    m_temperature[node] = s[4];
+  }
+  Eigen::Vector3d velocity_at(std::int64_t node) const {
+    return {m_velocity[0][node], m_velocity[1][node], m_velocity[2][node]};
+  }
+
+ private:
+  std::array<std::vector<double>, 3> m_velocity;
+  std::vector<double> m_density;
+  std::vector<double> m_temperature;
+};
+
+/// The cell of the node lattice holding world point p (clamped into the grid), and the
+/// trilinear weights' fractions inside it.
+struct NodeStencil {
+  Eigen::Vector3i base;      ///< lower corner node
+  Eigen::Vector3d fraction;  ///< in [0, 1]^3
+  /// Flat index of corner c (bit 0: +x, bit 1: +y, bit 2: +z).
+  std::int64_t corner(const grid::UniformGrid& grid, int c) const {
+    return grid.index(grid::Location::Node, base.x() + (c & 1), base.y() + ((c >> 1) & 1),
+                      base.z() + ((c >> 2) & 1));
+  }
+  double weight(int c) const {
+    return ((c & 1) ? fraction.x() : 1.0 - fraction.x()) *
+           (((c >> 1) & 1) ? fraction.y() : 1.0 - fraction.y()) *
+           (((c >> 2) & 1) ? fraction.z() : 1.0 - fraction.z());
+  }
+};
+NodeStencil node_stencil(const grid::UniformGrid& grid, const Eigen::Vector3d& p);
+
+}  // namespace shellflow::grid_fluid

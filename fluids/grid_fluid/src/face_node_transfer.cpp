@@ -1,0 +1,158 @@
+#include "shellflow/grid_fluid/face_node_transfer.hpp"
+
+namespace shellflow::grid_fluid {
+
+using grid::Location;
+
+bool fixed_boundary_face(const grid::UniformGrid& grid, const DomainBoundary& boundary, int axis,
+                         const Eigen::Vector3i& ijk) {
+  if (ijk[axis] == 0) return boundary.side(axis, 0).type != BoundaryType::Open;
+  if (ijk[axis] == grid.cells()[axis]) return boundary.side(axis, 1).type != BoundaryType::Open;
+  return false;
+}
+
+void apply_boundary_velocities(MacGrid& mac, const DomainBoundary& boundary) {
+  const auto& grid = mac.grid();
+  for (int a = 0; a < 3; ++a) {
+    const Location loc = face_location(a);
+    const Eigen::Vector3i n = grid.counts(loc);
+    const int b = (a + 1) % 3;
+    const int c = (a + 2) % 3;
+    for (int side = 0; side < 2; ++side) {
+      const FaceCondition& cond = boundary.side(a, side);
+      if (cond.type == BoundaryType::Open) continue;
+      const double value = cond.type == BoundaryType::Inflow ? cond.velocity[a] : 0.0;
+      Eigen::Vector3i ijk;
+      ijk[a] = side == 0 ? 0 : grid.cells()[a];
+      for (int j = 0; j < n[b]; ++j)
+        for (int k = 0; k < n[c]; ++k) {
+          ijk[b] = j;
+          ijk[c] = k;
+          mac.face_velocity(a)[grid.index(loc, ijk)] = value;
+        }
+    }
+  }
+}
+
+void FaceNodeTransfer::faces_to_nodes(const MacGrid& mac, NodeFields& nodes,
+                                      const ShellGeometry& shells,
+                                      const geometry::ShellBand* band) const {
+  const std::int64_t count = m_grid.size(Location::Node);
+  const std::span<const std::uint8_t> in_band =
+      band ? band->flags(Location::Node) : std::span<const std::uint8_t>();
+#pragma omp parallel for schedule(static)
+  for (std::int64_t node = 0; node < count; ++node) {
+    const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, node);
+    const bool rays = !in_band.empty() && in_band[node] != 0;
+    const Eigen::Vector3d x = rays ? m_grid.position(Location::Node, ijk) : Eigen::Vector3d();
+    for (int a = 0; a < 3; ++a) {
+      const Location loc = face_location(a);
+      const int b = (a + 1) % 3;
+      const int c = (a + 2) % 3;
+      const auto& u = mac.face_velocity(a);
+      double sum = 0.0;
+      int terms = 0;
+      Eigen::Vector3d object_sum = Eigen::Vector3d::Zero();
+      int object_terms = 0;
+      // The faces of family a around node ijk: (i_a, i_b - {1,0}, i_c - {1,0}).
+      for (int db = -1; db <= 0; ++db) {
+        for (int dc = -1; dc <= 0; ++dc) {
+          Eigen::Vector3i f = ijk;
+          f[b] += db;
+          f[c] += dc;
+          if (f[b] < 0 || f[c] < 0 || f[b] >= m_grid.cells()[b] || f[c] >= m_grid.cells()[c])
+            continue;
+          if (rays) {
+            const Eigen::Vector3d y = m_grid.position(loc, f);
+            if (!shells.visible(x, y)) {
+              object_sum += shells.object_velocity(x, y);
+              ++object_terms;
+              continue;
+            }
+          }
+          sum += u[m_grid.index(loc, f)];
+          ++terms;
+        }
+      }
+      double value = 0.0;
+      if (terms > 0) {
+        value = sum / terms;
+      } else if (object_terms > 0) {
+        value = object_sum[a] / object_terms;  // §4.2: no visible face
+      }
+      nodes.velocity(a)[node] = value;
+    }
+  }
+}
+
+void FaceNodeTransfer::increments_to_faces(
+    MacGrid& mac, const NodeFields& u_star, const std::array<std::vector<double>, 3>& u_n,
+    std::span<const std::uint8_t> node_valid_before,
+    const std::array<std::vector<std::uint8_t>, 3>& face_swept, const ShellGeometry& shells,
+    const geometry::ShellBand* band, const DomainBoundary& boundary) const {
+  for (int a = 0; a < 3; ++a) {
+    const Location loc = face_location(a);
+    const int b = (a + 1) % 3;
+    const int c = (a + 2) % 3;
+    auto& u = mac.face_velocity(a);
+    const auto& us = u_star.velocity(a);
+    const auto& un = u_n[a];
+    const std::int64_t count = m_grid.size(loc);
+    const std::span<const std::uint8_t> in_band =
+        band ? band->flags(loc) : std::span<const std::uint8_t>();
+    const bool has_swept = !face_swept[a].empty();
+#pragma omp parallel for schedule(static)
+    for (std::int64_t face = 0; face < count; ++face) {
+      const Eigen::Vector3i ijk = m_grid.coordinates(loc, face);
+      if (fixed_boundary_face(m_grid, boundary, a, ijk)) continue;
+      std::int64_t corner[4];
+      int m = 0;
+      for (int db = 0; db <= 1; ++db)
+        for (int dc = 0; dc <= 1; ++dc) {
+          Eigen::Vector3i v = ijk;
+          v[b] += db;
+          v[c] += dc;
+          corner[m++] = m_grid.index(Location::Node, v);
+        }
+      const bool rays = !in_band.empty() && in_band[face] != 0;
+      if (!rays) {
+        // Fast path away from shells: the plain average of the four increments.
+        double du = 0.0;
+        for (const std::int64_t v : corner) du += us[v] - un[v];
+        u[face] += 0.25 * du;
+        continue;
+      }
+      const Eigen::Vector3d y = m_grid.position(loc, ijk);
+      const bool swept = has_swept && face_swept[a][face] != 0;
+      double du = 0.0;
+      int du_terms = 0;
+      double full = 0.0;
+      int full_terms = 0;
+      Eigen::Vector3d object_sum = Eigen::Vector3d::Zero();
+      int object_terms = 0;
+      for (const std::int64_t v : corner) {
+        const Eigen::Vector3d x = m_grid.position(Location::Node, v);
+        if (!shells.visible(y, x)) {
+          object_sum += shells.object_velocity(y, x);
+          ++object_terms;
+          continue;
+        }
+        full += us[v];
+        ++full_terms;
+        if (node_valid_before.empty() || node_valid_before[v] != 0) {
+          du += us[v] - un[v];
+          ++du_terms;
+        }
+      }
+      if (!swept && du_terms > 0) {
+        u[face] += du / du_terms;
+      } else if (full_terms > 0) {
+        u[face] = full / full_terms;  // swept face, or only swept visible nodes
+      } else if (object_terms > 0) {
+        u[face] = object_sum[a] / object_terms;  // §4.2: no visible node
+      }
+    }
+  }
+}
+
+}  // namespace shellflow::grid_fluid

@@ -1,0 +1,415 @@
+#include "shellflow/grid_fluid/grid_fluid_solver.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "shellflow/sdk/error.hpp"
+#include "shellflow/sdk/json_helpers.hpp"
+
+namespace shellflow::grid_fluid {
+
+using grid::Location;
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+grid::UniformGrid make_grid(const nlohmann::json& params) {
+  const auto& domain = params.at("domain");
+  const Eigen::Vector3d lo = sdk::json_vec3(domain, "min");
+  const Eigen::Vector3d hi = sdk::json_vec3(domain, "max");
+  const Eigen::Vector3d extent = hi - lo;
+  if ((extent.array() <= 0.0).any())
+    throw ConfigError("/domain/max", "every coordinate of max must exceed min's");
+  const int resolution = params.at("resolution").get<int>();
+  const double dx = extent.maxCoeff() / resolution;
+  Eigen::Vector3i cells;
+  for (int a = 0; a < 3; ++a)
+    cells[a] = std::max(1, static_cast<int>(std::lround(extent[a] / dx)));
+  const Eigen::Vector3d upper = lo + dx * cells.cast<double>();
+  if ((upper - hi).cwiseAbs().maxCoeff() > 1e-9 * extent.maxCoeff())
+    spdlog::info("grid_fluid: domain max moved from ({}, {}, {}) to ({}, {}, {}) to fit "
+                 "cubic cells of {} m",
+                 hi.x(), hi.y(), hi.z(), upper.x(), upper.y(), upper.z(), dx);
+  return grid::UniformGrid(lo, dx, cells);
+}
+
+double ambient_of(const nlohmann::json& params) {
+  return params.at("smoke").at("ambient_temperature").get<double>();
+}
+
+ProjectionSettings projection_settings(const nlohmann::json& params) {
+  const auto& p = params.at("pressure");
+  ProjectionSettings s;
+  s.solver = p.at("solver").get<std::string>() == "cholmod" ? PressureSolver::Cholmod
+                                                             : PressureSolver::Pcg;
+  s.tolerance = p.at("tolerance").get<double>();
+  s.max_iterations = p.at("max_iterations").get<int>();
+  return s;
+}
+
+}  // namespace
+
+sdk::Schema GridFluid::schema() {
+  using sdk::Schema;
+  return Schema::object(
+             "smoke on a uniform MAC grid that never leaks through thin shells (§3, §4.1–4.3, "
+             "Guendelman et al. 2005); one-way coupled: shells push the smoke, the smoke "
+             "exerts no force on them yet")
+      .field("domain",
+             Schema::object("the simulated box")
+                 .field("min", Schema::vec3(0.0, 0.0, 0.0).unit("m").doc("lower corner"))
+                 .field("max", Schema::vec3(1.0, 1.0, 1.0).unit("m").doc(
+                                   "upper corner (moved to fit cubic cells if needed)")))
+      .field("resolution", Schema::integer(32).min(2).max(1024).doc(
+                               "cells along the longest side of the domain; Δx follows"))
+      .field("boundary", DomainBoundary::schema())
+      .field("epsilon", Schema::number(1e-3).min(1e-9, false).max(0.1).unit("Δx").doc(
+                            "wedge thickness ε of the shells in units of Δx (§3; PhysBAM: "
+                            "1e-3); semi-Lagrangian rays use 2ε (§4.1)"))
+      .field("pressure",
+             Schema::object("the §4.3 pressure solve")
+                 .field("solver", Schema::string("pcg").one_of({"pcg", "cholmod"}).doc(
+                                      "pcg: conjugate gradients with MIC(0); cholmod: direct "
+                                      "SuiteSparse factorisation (reference, small grids)"))
+                 .field("tolerance", Schema::number(1e-6).min(0.0, false).max(0.1).doc(
+                                         "relative residual |b − Ap|/|b| of PCG; the largest "
+                                         "cell divergence is also kept below tolerance × "
+                                         "max|u*|"))
+                 .field("max_iterations",
+                        Schema::integer(2000).min(1).doc("PCG iteration cap per region")))
+      .field("smoke",
+             Schema::object("smoke physics (§4.1, Fedkiw et al. 2001)")
+                 .field("ambient_temperature",
+                        Schema::number(298.0).min(0.0).unit("K").doc("T_a"))
+                 .field("density_buoyancy", Schema::number(0.0).min(0.0).unit("m/s^2").doc(
+                                                "α in f = −αρz + β(T − T_a)z (smoke sinks "
+                                                "with density)"))
+                 .field("temperature_buoyancy",
+                        Schema::number(0.001).min(0.0).unit("m/s^2/K").doc(
+                            "β in f = −αρz + β(T − T_a)z (PhysBAM default 0.001); active "
+                            "only when a source sets a temperature"))
+                 .field("up", Schema::vec3().optional().doc(
+                                  "upward direction z (left out: −gravity, or +y without "
+                                  "gravity)"))
+                 .field("vorticity_confinement",
+                        Schema::number(0.0).min(0.0).max(10.0).doc(
+                            "ε_vc in f = ε_vc Δx (N × ω) (PhysBAM smoke: 0.3); 0 turns it "
+                            "off")))
+      .field("sources",
+             Schema::array(SmokeSource::schema())
+                 .default_value(Schema::Json::array())
+                 .doc("smoke emitters (spheres and boxes)"));
+}
+
+GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
+    : m_context(context),
+      m_mac(make_grid(params)),
+      m_transfer(m_mac.grid()),
+      m_advector(m_mac.grid(), ambient_of(params)),
+      m_forces(m_mac.grid()),
+      m_refill(m_mac.grid(), ambient_of(params)),
+      m_projection(m_mac.grid(), projection_settings(params)),
+      m_band(m_mac.grid()) {
+  if (params.contains("boundary")) m_boundary = DomainBoundary(params.at("boundary"), "/boundary");
+  m_epsilon = params.at("epsilon").get<double>() * m_mac.dx();
+  const auto& smoke = params.at("smoke");
+  m_buoyancy.ambient_temperature = smoke.at("ambient_temperature").get<double>();
+  m_buoyancy.density_alpha = smoke.at("density_buoyancy").get<double>();
+  m_buoyancy.temperature_beta = smoke.at("temperature_buoyancy").get<double>();
+  if (smoke.contains("up") && !smoke.at("up").is_null()) {
+    m_buoyancy.up = sdk::json_vec3(smoke, "up");
+    if (m_buoyancy.up.norm() == 0.0) throw ConfigError("/smoke/up", "must not be zero");
+  } else if (context.gravity.norm() > 0.0) {
+    m_buoyancy.up = -context.gravity.normalized();
+  }
+  m_buoyancy.up.normalize();
+  m_vorticity = smoke.at("vorticity_confinement").get<double>();
+  const auto& sources = params.at("sources");
+  for (size_t i = 0; i < sources.size(); ++i) {
+    m_sources.emplace_back(sources[i], "/sources/" + std::to_string(i));
+    m_temperature = m_temperature || m_sources.back().temperature().has_value();
+  }
+  m_nodes = NodeFields(m_mac.grid(), m_buoyancy.ambient_temperature);
+  m_next = m_nodes;
+  for (auto& u : m_u_n) u.assign(m_nodes.size(), 0.0);
+  apply_boundary_velocities(m_mac, m_boundary);
+  const Eigen::Vector3i c = m_mac.grid().cells();
+  spdlog::info("grid_fluid: {}x{}x{} cells, dx = {} m, eps = {} m, {} source(s), temperature {}",
+               c.x(), c.y(), c.z(), m_mac.dx(), m_epsilon, m_sources.size(),
+               m_temperature ? "on" : "off");
+}
+
+std::vector<sdk::Positions> GridFluid::velocities_of(sdk::ShellSet shells) {
+  std::vector<sdk::Positions> v;
+  v.reserve(shells.size());
+  for (const auto& s : shells) v.push_back(s.velocities);
+  return v;
+}
+
+void GridFluid::ensure_geometry(std::unique_ptr<ShellGeometry>& cache,
+                                sdk::ShellSet shells) const {
+  if (!cache || !cache->same_positions(shells)) {
+    cache = std::make_unique<ShellGeometry>(shells, m_epsilon);
+  } else {
+    cache->set_velocities(velocities_of(shells));
+  }
+}
+
+void GridFluid::build_band(sdk::ShellSet shells_n, sdk::ShellSet shells_np1, double margin) {
+  if (m_band_used) m_band.clear();
+  m_band_used = false;
+  for (size_t s = 0; s < shells_np1.size(); ++s) {
+    if (shells_np1[s].triangle_count() == 0) continue;
+    const geometry::TriangleMesh end(shells_np1[s]);
+    if (s < shells_n.size() && shells_n[s].triangle_count() == shells_np1[s].triangle_count()) {
+      m_band.add_swept(geometry::TriangleMesh(shells_n[s]), end, margin);
+    } else {
+      m_band.add(end, margin);
+    }
+    m_band_used = true;
+  }
+}
+
+void GridFluid::refresh_nodes(sdk::ShellSet shells) {
+  ensure_geometry(m_geometry_n, shells);
+  build_band(shells, shells, 2.0 * m_mac.dx());
+  m_transfer.faces_to_nodes(m_mac, m_nodes, *m_geometry_n, m_band_used ? &m_band : nullptr);
+  m_nodes_current = true;
+}
+
+double GridFluid::stable_dt(double cfl) const {
+  double speed = std::max(m_mac.max_face_speed(), m_shell_speed);
+  for (const auto& s : m_sources)
+    if (s.velocity() && s.active(m_time)) speed = std::max(speed, s.velocity()->norm());
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side)
+      if (m_boundary.side(a, side).type == BoundaryType::Inflow)
+        speed = std::max(speed, m_boundary.side(a, side).velocity.norm());
+  // A body force f changes u by f Δt: allow for it over one cell (Bridson 2008, §3.1).
+  speed += std::sqrt(m_mac.dx() * m_stats.max_force);
+  return speed > 0.0 ? cfl * m_mac.dx() / speed : kInf;
+}
+
+void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSet shells_np1) {
+  m_stats = StepStats{};
+  m_time = t;
+  const bool shells = !shells_n.empty() || !shells_np1.empty();
+  ShellGeometry none;
+  if (shells) {
+    const bool reuse = m_geometry_n && m_geometry_n->same_positions(shells_n);
+    ensure_geometry(m_geometry_n, shells_n);
+    if (!reuse) m_nodes_current = false;
+  } else {
+    m_geometry_n.reset();
+  }
+  const ShellGeometry& geom_n = m_geometry_n ? *m_geometry_n : none;
+
+  // Shell band: every node whose ray (≤ Δt max|u|) or stencil may reach a shell (§3, §4.1).
+  double speed = m_mac.max_face_speed();
+  for (const auto& s : shells_n)
+    if (s.velocities.rows() > 0) speed = std::max(speed, s.velocities.rowwise().norm().maxCoeff());
+  build_band(shells_n, shells_np1, m_advector.band_margin(dt, speed));
+  const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
+  m_stats.band_nodes = band ? static_cast<std::int64_t>(band->samples(Location::Node).size()) : 0;
+
+  // 1. §4.2 faces → nodes (already done at the end of the last projection, same shells).
+  if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band);
+  for (int a = 0; a < 3; ++a) m_u_n[a] = m_nodes.velocity(a);
+
+  // 2. §4.1 semi-Lagrangian advection with visibility.
+  m_advector.advect(m_nodes, m_next, dt, geom_n, band);
+  std::swap(m_nodes, m_next);
+
+  // 3. Sources and body forces on the nodes.
+  for (const auto& s : m_sources)
+    m_stats.source_nodes += s.apply(t, m_mac.grid(), m_nodes, m_temperature);
+  if (m_buoyancy.density_alpha != 0.0 || (m_temperature && m_buoyancy.temperature_beta != 0.0))
+    m_stats.max_force = m_forces.add_buoyancy(m_nodes, dt, m_buoyancy, m_temperature);
+  if (m_vorticity > 0.0)
+    m_stats.max_force = std::max(
+        m_stats.max_force, m_forces.add_vorticity_confinement(m_nodes, dt, m_vorticity, geom_n, band));
+
+  // 4. The shells move n → n+1: swept nodes invalidated and refilled (§3).
+  if (shells) {
+    ensure_geometry(m_geometry_np1, shells_np1);
+    m_stats.refill = m_refill.run(geom_n, *m_geometry_np1, m_nodes);
+  }
+  const ShellGeometry& geom_np1 = m_geometry_np1 && shells ? *m_geometry_np1 : none;
+
+  // 5. §4.2 increments back to the persistent faces, with visibility at n+1.
+  static const std::array<std::vector<std::uint8_t>, 3> no_faces;
+  m_transfer.increments_to_faces(m_mac, m_nodes, m_u_n,
+                                 shells ? m_refill.node_valid_before()
+                                        : std::span<const std::uint8_t>(),
+                                 shells ? m_refill.face_swept() : no_faces, geom_np1, band,
+                                 m_boundary);
+  apply_boundary_velocities(m_mac, m_boundary);
+  m_nodes_current = false;
+}
+
+void GridFluid::coupling_forces(double /*dt*/, sdk::ShellSet shells,
+                                std::span<sdk::TriangleVectors> /*triangle_forces*/) {
+  if (!m_logged_one_way) {
+    bool two_way = false;
+    for (const auto& s : shells) two_way = two_way || s.receives_fluid_forces;
+    if (two_way)
+      spdlog::warn("grid_fluid: one-way coupling only — shells asking for fluid forces get "
+                   "zero (the §5.1 coupling pressure is issue 6)");
+    else
+      spdlog::info("grid_fluid: one-way coupling (shells move the smoke; no forces back)");
+    m_logged_one_way = true;
+  }
+}
+
+void GridFluid::project(double dt, sdk::ShellSet shells,
+                        std::span<const sdk::Positions> effective_velocity) {
+  ShellGeometry none;
+  const bool have_shells = !shells.empty();
+  if (have_shells) {
+    ensure_geometry(m_geometry_np1, shells);
+    m_geometry_np1->set_velocities(effective_velocity);  // §4.3: the effective velocity
+    build_band(shells, shells, 2.0 * m_mac.dx());
+  } else {
+    m_geometry_np1.reset();
+    build_band(shells, shells, 0.0);
+  }
+  const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
+  const ShellGeometry& geom = have_shells ? *m_geometry_np1 : none;
+  m_stats.projection = m_projection.project(m_mac, dt, m_boundary, geom, band);
+
+  m_shell_speed = 0.0;
+  for (const auto& v : effective_velocity)
+    if (v.rows() > 0) m_shell_speed = std::max(m_shell_speed, v.rowwise().norm().maxCoeff());
+
+  // Nodes for writers and for the next step (§4.2), against the shells' own velocities.
+  if (have_shells) m_geometry_np1->set_velocities(velocities_of(shells));
+  m_transfer.faces_to_nodes(m_mac, m_nodes, geom, band);
+  m_nodes_current = true;
+  std::swap(m_geometry_n, m_geometry_np1);
+  m_time += dt;
+}
+
+void GridFluid::save(sdk::StateWriter& out) const {
+  const auto write_vector = [&](const std::vector<double>& v) {
+    out.write_matrix(Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), v.size())));
+  };
+  out.write(m_time);
+  for (int a = 0; a < 3; ++a) write_vector(m_mac.face_velocity(a));
+  write_vector(m_mac.pressure());
+  write_vector(m_nodes.density());
+  write_vector(m_nodes.temperature());
+  for (int a = 0; a < 3; ++a) write_vector(m_nodes.velocity(a));
+  write_vector(const_cast<PressureProjection&>(m_projection).scaled_pressure());
+}
+
+void GridFluid::restore(sdk::StateReader& in) {
+  const auto read_vector = [&](std::vector<double>& v) {
+    Eigen::VectorXd m;
+    in.read_matrix(m);
+    if (static_cast<size_t>(m.size()) != v.size())
+      throw Error("grid_fluid restore(): the saved state is for another grid size");
+    std::copy(m.data(), m.data() + m.size(), v.begin());
+  };
+  m_time = in.read<double>();
+  for (int a = 0; a < 3; ++a) read_vector(m_mac.face_velocity(a));
+  read_vector(m_mac.pressure());
+  read_vector(m_nodes.density());
+  read_vector(m_nodes.temperature());
+  for (int a = 0; a < 3; ++a) read_vector(m_nodes.velocity(a));
+  read_vector(m_projection.scaled_pressure());
+  m_geometry_n.reset();
+  m_geometry_np1.reset();
+  m_nodes_current = false;
+}
+
+std::vector<sdk::FieldView> GridFluid::fields() const {
+  const auto& g = m_mac.grid();
+  const auto view = [&](const char* name, sdk::FieldView::Location loc, Location gl,
+                        std::array<const double*, 3> data, int components) {
+    sdk::FieldView v;
+    v.name = name;
+    v.location = loc;
+    v.origin = g.position(gl, Eigen::Vector3i::Zero());
+    v.dx = g.dx();
+    const Eigen::Vector3i n = g.counts(gl);
+    v.dims = {n.x(), n.y(), n.z()};
+    v.components = components;
+    v.data = data;
+    return v;
+  };
+  using L = sdk::FieldView::Location;
+  std::vector<sdk::FieldView> out;
+  out.push_back(view("density", L::Node, Location::Node,
+                     {m_nodes.density().data(), nullptr, nullptr}, 1));
+  if (m_temperature)
+    out.push_back(view("temperature", L::Node, Location::Node,
+                       {m_nodes.temperature().data(), nullptr, nullptr}, 1));
+  out.push_back(view("velocity", L::Node, Location::Node,
+                     {m_nodes.velocity(0).data(), m_nodes.velocity(1).data(),
+                      m_nodes.velocity(2).data()},
+                     3));
+  out.push_back(view("pressure", L::Cell, Location::Cell,
+                     {m_mac.pressure().data(), nullptr, nullptr}, 1));
+  return out;
+}
+
+std::optional<std::string> GridFluid::find_nonfinite() const {
+  const auto scan = [](const std::vector<double>& v) -> std::int64_t {
+    for (size_t i = 0; i < v.size(); ++i)
+      if (!std::isfinite(v[i])) return static_cast<std::int64_t>(i);
+    return -1;
+  };
+  static const char* kFace[3] = {"face velocity u (FaceX)", "face velocity v (FaceY)",
+                                 "face velocity w (FaceZ)"};
+  for (int a = 0; a < 3; ++a)
+    if (const auto i = scan(m_mac.face_velocity(a)); i >= 0) {
+      const Eigen::Vector3i ijk = m_mac.grid().coordinates(face_location(a), i);
+      return std::string(kFace[a]) + " at (" + std::to_string(ijk.x()) + ", " +
+             std::to_string(ijk.y()) + ", " + std::to_string(ijk.z()) + ")";
+    }
+  const auto node_report = [&](const char* name, std::int64_t i) {
+    const Eigen::Vector3i ijk = m_mac.grid().coordinates(Location::Node, i);
+    return std::string(name) + " at node (" + std::to_string(ijk.x()) + ", " +
+           std::to_string(ijk.y()) + ", " + std::to_string(ijk.z()) + ")";
+  };
+  if (const auto i = scan(m_nodes.density()); i >= 0) return node_report("density", i);
+  if (const auto i = scan(m_nodes.temperature()); i >= 0) return node_report("temperature", i);
+  if (const auto i = scan(m_mac.pressure()); i >= 0) return "pressure at cell " + std::to_string(i);
+  return std::nullopt;
+}
+
+double GridFluid::smoke_mass() const {
+  const auto& rho = m_nodes.density();
+  double sum = 0.0;
+  const std::int64_t n = static_cast<std::int64_t>(rho.size());
+#pragma omp parallel for reduction(+ : sum)
+  for (std::int64_t i = 0; i < n; ++i) sum += rho[i];
+  const double dx = m_mac.dx();
+  return sum * dx * dx * dx;
+}
+
+void GridFluid::report(sdk::Metrics& out) const {
+  const auto& p = m_stats.projection;
+  out.set("pcg_iterations", p.iterations);
+  out.set("pcg_max_region_iterations", p.max_region_iterations);
+  out.set("pcg_relative_residual", p.relative_residual);
+  out.set("pressure_converged", p.converged ? 1.0 : 0.0);
+  out.set("max_divergence", p.max_relative_divergence);
+  out.set("fluid_regions", p.regions);
+  out.set("enclosed_regions", p.enclosed_regions);
+  out.set("compatibility_flux", p.max_compatibility_flux);
+  out.set("shell_neumann_faces", static_cast<double>(p.shell_neumann_faces));
+  out.set("band_nodes", static_cast<double>(m_stats.band_nodes));
+  out.set("invalid_nodes", static_cast<double>(m_stats.refill.invalid_nodes));
+  out.set("refill_from_object", static_cast<double>(m_stats.refill.refill.from_object +
+                                                    m_stats.refill.refill.isolated));
+  out.set("smoke_mass", smoke_mass());
+  out.set("max_speed", m_mac.max_face_speed());
+  out.set("coupling_forces", 0.0);  // one-way coupling (issue 4); §5.1 is issue 6
+}
+
+}  // namespace shellflow::grid_fluid

@@ -1,0 +1,96 @@
+#include "shellflow/grid_fluid/shell_geometry.hpp"
+
+#include <limits>
+
+namespace shellflow::grid_fluid {
+
+ShellGeometry::ShellGeometry(sdk::ShellSet shells, double epsilon) : m_epsilon(epsilon) {
+  std::vector<const geometry::TriangleBvh*> bvhs;
+  for (const auto& surface : shells) {
+    if (surface.triangle_count() == 0) {
+      m_internal.push_back(-1);
+      continue;
+    }
+    m_internal.push_back(static_cast<int>(m_shells.size()));
+    auto shell = std::make_unique<Shell>();
+    shell->positions = surface.positions;
+    shell->velocities = surface.velocities.rows() == surface.positions.rows()
+                            ? surface.velocities
+                            : sdk::Positions::Zero(surface.positions.rows(), 3);
+    shell->triangles = surface.triangles;
+    shell->mesh = geometry::TriangleMesh(shell->positions, *shell->triangles);
+    shell->bvh = geometry::TriangleBvh(shell->mesh);
+    m_shells.push_back(std::move(shell));
+  }
+  for (const auto& s : m_shells) bvhs.push_back(&s->bvh);
+  if (!m_shells.empty()) m_caster = std::make_unique<geometry::WedgeCaster>(bvhs, epsilon);
+}
+
+bool ShellGeometry::same_positions(sdk::ShellSet shells) const {
+  size_t k = 0;
+  for (const auto& surface : shells) {
+    if (surface.triangle_count() == 0) continue;
+    if (k >= m_shells.size()) return false;
+    const auto& mine = m_shells[k++]->positions;
+    if (mine.rows() != surface.positions.rows() ||
+        !(mine.array() == surface.positions.array()).all())
+      return false;
+  }
+  return k == m_shells.size();
+}
+
+void ShellGeometry::set_velocities(std::span<const sdk::Positions> velocities) {
+  // `velocities` follows the ShellSet order (which may include empty shells we skipped).
+  for (size_t s = 0; s < velocities.size() && s < m_internal.size(); ++s) {
+    const int k = m_internal[s];
+    if (k < 0 || velocities[s].rows() != m_shells[k]->positions.rows()) continue;
+    m_shells[k]->velocities = velocities[s];
+  }
+}
+
+Eigen::Vector3d ShellGeometry::velocity_at(const geometry::WedgeHit& hit) const {
+  const Shell& shell = *m_shells[hit.shell];
+  const auto& tri = *shell.triangles;
+  Eigen::Vector3d v = Eigen::Vector3d::Zero();
+  for (int c = 0; c < 3; ++c)
+    v += hit.barycentric[c] * shell.velocities.row(tri(hit.triangle, c)).transpose();
+  return v;
+}
+
+Eigen::Vector3d ShellGeometry::object_velocity(const Eigen::Vector3d& a,
+                                               const Eigen::Vector3d& b) const {
+  if (m_shells.empty()) return Eigen::Vector3d::Zero();
+  if (const auto hit = m_caster->first_hit(a, b)) return velocity_at(*hit);
+  // Fallback: the closest surface point to b over all shells.
+  geometry::WedgeHit best;
+  double best_d2 = std::numeric_limits<double>::infinity();
+  for (int s = 0; s < shell_count(); ++s) {
+    const auto p = m_shells[s]->bvh.closest_point(b);
+    if (p.triangle >= 0 && p.distance2 < best_d2) {
+      best_d2 = p.distance2;
+      best.shell = s;
+      best.triangle = p.triangle;
+      best.barycentric = p.barycentric;
+    }
+  }
+  return best.shell >= 0 ? velocity_at(best) : Eigen::Vector3d::Zero();
+}
+
+Eigen::Vector3d ShellGeometry::clip(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                    double epsilon) const {
+  if (m_shells.empty() || !m_caster->blocked(a, b, epsilon)) return b;
+  if (m_caster->inside(a, epsilon)) return a;
+  double lo = 0.0;
+  double hi = 1.0;
+  for (int it = 0; it < 10; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    if (m_caster->blocked(a, a + mid * (b - a), epsilon)) {
+      hi = mid;
+    } else {
+      lo = mid;
+    }
+  }
+  return a + lo * (b - a);
+}
+
+}  // namespace shellflow::grid_fluid

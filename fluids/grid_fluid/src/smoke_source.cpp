@@ -1,0 +1,99 @@
+#include "shellflow/grid_fluid/smoke_source.hpp"
+
+#include <limits>
+
+#include "shellflow/sdk/error.hpp"
+#include "shellflow/sdk/json_helpers.hpp"
+
+namespace shellflow::grid_fluid {
+
+namespace {
+sdk::Schema with_common_fields(sdk::Schema s) {
+  using sdk::Schema;
+  return s
+      .field("velocity", Schema::vec3().optional().unit("m/s").doc(
+                             "velocity imposed inside the emitter (left out: not imposed)"))
+      .field("density", Schema::number(1.0).min(0.0).unit("1").doc("smoke density set inside"))
+      .field("temperature", Schema::number().optional().min(0.0).unit("K").doc(
+                                "temperature set inside (any source with one turns the "
+                                "temperature field and its buoyancy on)"))
+      .field("start", Schema::number(0.0).unit("s").doc("time the emitter turns on"))
+      .field("end", Schema::number().optional().unit("s").doc(
+                        "time the emitter turns off (left out: never)"));
+}
+}  // namespace
+
+sdk::Schema SmokeSource::schema() {
+  using sdk::Schema;
+  return Schema::variant("shape", "a smoke emitter")
+      .option("sphere", with_common_fields(
+                            Schema::object("a ball")
+                                .field("center", Schema::vec3().unit("m").doc("centre"))
+                                .field("radius", Schema::number().min(0.0, false).unit("m").doc(
+                                                     "radius"))))
+      .option("box", with_common_fields(Schema::object("an axis-aligned box")
+                                            .field("min", Schema::vec3().unit("m").doc("corner"))
+                                            .field("max", Schema::vec3().unit("m").doc(
+                                                              "opposite corner"))));
+}
+
+SmokeSource::SmokeSource(const nlohmann::json& spec, const std::string& json_path) {
+  const std::string shape = spec.value("shape", std::string("sphere"));
+  if (shape == "sphere") {
+    m_shape = Shape::Sphere;
+    m_center = sdk::json_vec3(spec, "center");
+    m_radius = spec.at("radius").get<double>();
+  } else if (shape == "box") {
+    m_shape = Shape::Box;
+    m_min = sdk::json_vec3(spec, "min");
+    m_max = sdk::json_vec3(spec, "max");
+    if ((m_max.array() <= m_min.array()).any())
+      throw ConfigError(json_path + "/max", "every coordinate of max must exceed min's");
+  } else {
+    throw ConfigError(json_path + "/shape", "unknown shape \"" + shape + "\"; use sphere or box");
+  }
+  if (spec.contains("velocity") && !spec.at("velocity").is_null())
+    m_velocity = sdk::json_vec3(spec, "velocity");
+  m_density = spec.value("density", 1.0);
+  if (spec.contains("temperature") && !spec.at("temperature").is_null())
+    m_temperature = spec.at("temperature").get<double>();
+  m_start = spec.value("start", 0.0);
+  m_end = spec.contains("end") && !spec.at("end").is_null()
+              ? spec.at("end").get<double>()
+              : std::numeric_limits<double>::infinity();
+  if (!(m_end > m_start))
+    throw ConfigError(json_path + "/end", "must be later than \"start\"");
+}
+
+bool SmokeSource::contains(const Eigen::Vector3d& p) const {
+  if (m_shape == Shape::Sphere) return (p - m_center).squaredNorm() <= m_radius * m_radius;
+  return (p.array() >= m_min.array()).all() && (p.array() <= m_max.array()).all();
+}
+
+std::int64_t SmokeSource::apply(double t, const grid::UniformGrid& grid, NodeFields& fields,
+                                bool temperature) const {
+  if (!active(t)) return 0;
+  const Eigen::Vector3d lo = m_shape == Shape::Sphere ? Eigen::Vector3d(m_center.array() - m_radius)
+                                                      : m_min;
+  const Eigen::Vector3d hi = m_shape == Shape::Sphere ? Eigen::Vector3d(m_center.array() + m_radius)
+                                                      : m_max;
+  const grid::IndexBox box = grid.samples_in_box(grid::Location::Node, lo, hi);
+  if (box.empty()) return 0;
+  std::int64_t set = 0;
+#pragma omp parallel for collapse(2) reduction(+ : set)
+  for (int k = box.lo.z(); k <= box.hi.z(); ++k)
+    for (int j = box.lo.y(); j <= box.hi.y(); ++j)
+      for (int i = box.lo.x(); i <= box.hi.x(); ++i) {
+        const Eigen::Vector3i ijk(i, j, k);
+        if (!contains(grid.position(grid::Location::Node, ijk))) continue;
+        const std::int64_t node = grid.index(grid::Location::Node, ijk);
+        fields.density()[node] = m_density;
+        if (temperature && m_temperature) fields.temperature()[node] = *m_temperature;
+        if (m_velocity)
+          for (int a = 0; a < 3; ++a) fields.velocity(a)[node] = (*m_velocity)[a];
+        ++set;
+      }
+  return set;
+}
+
+}  // namespace shellflow::grid_fluid
