@@ -100,7 +100,9 @@ TEST(CouplingLoop, FluidSeesShellsAtNAndNPlusOneAndTheLookAheadVelocity) {
     const auto& s = fluid.seen[k];
     EXPECT_NEAR(s.time_n, s.t, kTimeTolerance) << "step " << k;            // shells at n
     EXPECT_NEAR(s.time_np1, s.t + s.dt, kTimeTolerance) << "step " << k;   // shells at n+1
-    if (k + 1 < fluid.seen.size()) EXPECT_EQ(fluid.seen[k + 1].t, s.t + s.dt);  // no gaps
+    if (k + 1 < fluid.seen.size()) {
+      EXPECT_EQ(fluid.seen[k + 1].t, s.t + s.dt);  // no gaps between steps
+    }
   }
   // Step 2 looked ahead with 0.01 but the fluid then took 0.004: the solid was rewound
   // and advanced again under the same force (2), so it is exactly where the fluid is.

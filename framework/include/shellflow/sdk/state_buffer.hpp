@@ -40,8 +40,10 @@ class StateWriter {
 
  private:
   void append(const void* p, size_t n) {
-    const auto* b = static_cast<const std::uint8_t*>(p);
-    m_buffer.insert(m_buffer.end(), b, b + n);
+    if (n == 0) return;
+    const size_t old_size = m_buffer.size();
+    m_buffer.resize(old_size + n);
+    std::memcpy(m_buffer.data() + old_size, p, n);
   }
   StateBuffer& m_buffer;
 };
