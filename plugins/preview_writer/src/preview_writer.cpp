@@ -116,12 +116,7 @@ PreviewWriter::PreviewWriter(const nlohmann::json& params, const sdk::Context& /
 
 void PreviewWriter::begin(const sdk::RunInfo& info) {
   m_scene_name = info.scene_name;
-  m_folder = info.out_dir / m_folder_name;
-  std::error_code ec;
-  std::filesystem::create_directories(m_folder, ec);
-  if (ec || !std::filesystem::is_directory(m_folder))
-    throw IoError(m_folder.string() + ": cannot create the output folder (" +
-                  (ec ? ec.message() : std::string("a file of that name exists")) + ")");
+  m_folder = sdk::make_output_subfolder(info, m_folder_name);
 }
 
 void PreviewWriter::write_frame(const sdk::FrameView& frame) {

@@ -19,11 +19,15 @@ struct RunInfo {
 
 /// One frame as writers see it. `fluid` is null in a solids-only scene.
 struct FrameView {
-  int frame = 0;     ///< 0 is the initial state
-  double time = 0.0; ///< [s]
+  int frame = 0;      ///< 0 is the initial state
+  double time = 0.0;  ///< [s]
   ShellSet shells;
   const FluidSolver* fluid = nullptr;
 };
+
+/// Creates (if needed) the sub-folder `name` of the run's output folder, where a writer
+/// puts its files, and returns it. @throw IoError naming the folder.
+std::filesystem::path make_output_subfolder(const RunInfo& info, const std::string& name);
 
 class Writer {
  public:
