@@ -1,7 +1,5 @@
 #include "shellflow/runtime/output_folder.hpp"
 
-#include <fstream>
-
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::runtime {
@@ -31,20 +29,6 @@ void prepare_output_folder(const fs::path& dir, bool overwrite) {
   }
   fs::create_directories(dir, ec);
   if (ec) throw IoError("cannot create output folder " + dir.string() + ": " + ec.message());
-}
-
-void write_file_atomically(const fs::path& file, const std::string& text) {
-  const fs::path tmp = file.string() + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.flush();
-    if (!out) throw IoError("cannot write " + tmp.string() + " (disk full or no permission?)");
-  }
-  std::error_code ec;
-  fs::rename(tmp, file, ec);
-  if (ec)
-    throw IoError("cannot rename " + tmp.string() + " to " + file.string() + ": " + ec.message());
 }
 
 }  // namespace shellflow::runtime

@@ -11,6 +11,7 @@
 #include "shellflow/runtime/metrics_csv.hpp"
 #include "shellflow/runtime/output_folder.hpp"
 #include "shellflow/runtime/plugin_instance.hpp"
+#include "shellflow/sdk/atomic_file.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::runtime {
@@ -141,7 +142,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
   run["plugins"] = plugins;
   run["config"] = scene.resolved;
   const fs::path run_json = summary.out_dir / "run.json";
-  write_file_atomically(run_json, run.dump(2) + "\n");
+  sdk::write_file_atomically(run_json, [&](std::ostream& out) { out << run.dump(2) << "\n"; });
 
   MetricsCsv metrics(summary.out_dir / "metrics.csv");
   const sdk::RunInfo info{summary.out_dir, scene.name, scene.time.fps};
@@ -171,7 +172,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
     run["seconds_per_frame"] =
         summary.last_frame > 0 ? summary.wall_seconds / summary.last_frame : 0.0;
     run["metrics_columns"] = metrics.columns();
-    write_file_atomically(run_json, run.dump(2) + "\n");
+    sdk::write_file_atomically(run_json, [&](std::ostream& out) { out << run.dump(2) << "\n"; });
   };
 
   try {

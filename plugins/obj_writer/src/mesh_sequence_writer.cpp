@@ -4,7 +4,7 @@
 #include <cstdio>
 #include <system_error>
 
-#include "shellflow/mesh_output/atomic_file.hpp"
+#include "shellflow/sdk/atomic_file.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::mesh_output {
@@ -43,7 +43,7 @@ void MeshSequenceWriter::write_frame(const sdk::FrameView& frame) {
     throw Error("mesh writer: write_frame() called before begin() (a runtime bug)");
   if (frame.frame % m_every != 0) return;
   for (const auto& shell : frame.shells)
-    write_file_atomically(m_folder / frame_file_name(shell.name, frame.frame, m_extension),
+    sdk::write_file_atomically(m_folder / frame_file_name(shell.name, frame.frame, m_extension),
                           [&](std::ostream& out) { write_shell(out, shell, frame); });
 }
 

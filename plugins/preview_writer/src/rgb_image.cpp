@@ -1,7 +1,5 @@
 #include "shellflow/preview_writer/rgb_image.hpp"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -10,6 +8,7 @@
 #include <string>
 #include <system_error>
 
+#include "shellflow/sdk/atomic_file.hpp"
 #include "shellflow/sdk/error.hpp"
 
 // stb_image_write (public domain, libstb-dev), compiled here with internal linkage so
@@ -57,24 +56,10 @@ void write_png(const std::filesystem::path& file, const RgbImage& image) {
                               image.rgb.data(), 3 * image.width))
     throw IoError(file.string() + ": cannot encode the PNG image");
 
-  // Complete files or none: a hidden per-process temporary in the same folder (rename(2)
-  // is atomic only within one file system), renamed into place.
-  std::string temporary_name = ".";
-  temporary_name.append(file.filename().string()).append(".tmp").append(std::to_string(::getpid()));
-  const auto temporary = file.parent_path() / temporary_name;
-  auto fail = [&](const std::string& what) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw IoError(file.string() + ": " + what);
-  };
-  std::FILE* out = std::fopen(temporary.c_str(), "wb");
-  if (!out) fail(std::string("cannot create the file (") + std::strerror(errno) + ")");
-  const size_t written = std::fwrite(encoded.data(), 1, encoded.size(), out);
-  const bool closed = std::fclose(out) == 0;
-  if (written != encoded.size() || !closed) fail("write failed (disk full?)");
-  std::error_code ec;
-  std::filesystem::rename(temporary, file, ec);
-  if (ec) fail("cannot move the finished file into place (" + ec.message() + ")");
+  sdk::write_file_atomically(file, [&](std::ostream& out) {
+    out.write(reinterpret_cast<const char*>(encoded.data()),
+              static_cast<std::streamsize>(encoded.size()));
+  });
 }
 
 }  // namespace shellflow::preview_writer

@@ -1,7 +1,5 @@
 #include "shellflow/vdb_writer/vdb_frame.hpp"
 
-#include <unistd.h>
-
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
@@ -10,6 +8,7 @@
 #include <system_error>
 #include <vector>
 
+#include "shellflow/sdk/atomic_file.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::vdb_writer {
@@ -119,26 +118,15 @@ void write_vdb_frame(const std::filesystem::path& file, std::span<const sdk::Fie
   metadata.insertMeta("shellflow_frame", openvdb::Int32Metadata(info.frame));
   metadata.insertMeta("shellflow_time", openvdb::DoubleMetadata(info.time));
 
-  // Complete files or none: write a hidden per-process temporary in the same folder
-  // (rename(2) is atomic only within one file system), then rename it into place.
-  std::string temporary_name = ".";
-  temporary_name.append(file.filename().string()).append(".tmp").append(std::to_string(::getpid()));
-  const auto temporary = file.parent_path() / temporary_name;
-  auto fail = [&](const std::string& what) {
-    std::error_code ignored;
-    std::filesystem::remove(temporary, ignored);
-    throw IoError(file.string() + ": " + what);
-  };
-  try {
-    openvdb::io::File out(temporary.string());
-    out.write(grids, metadata);
-    out.close();
-  } catch (const openvdb::Exception& e) {
-    fail(std::string("cannot write the OpenVDB file (") + e.what() + ")");
-  }
-  std::error_code ec;
-  std::filesystem::rename(temporary, file, ec);
-  if (ec) fail("cannot move the finished file into place (" + ec.message() + ")");
+  sdk::replace_file_atomically(file, [&](const std::filesystem::path& temporary) {
+    try {
+      openvdb::io::File out(temporary.string());
+      out.write(grids, metadata);
+      out.close();
+    } catch (const openvdb::Exception& e) {
+      throw IoError(file.string() + ": cannot write the OpenVDB file (" + e.what() + ")");
+    }
+  });
 }
 
 }  // namespace shellflow::vdb_writer

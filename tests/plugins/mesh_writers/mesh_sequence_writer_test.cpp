@@ -5,13 +5,15 @@
 #include <vector>
 
 #include "mesh_writer_fixture.hpp"
-#include "shellflow/mesh_output/atomic_file.hpp"
+#include "shellflow/sdk/atomic_file.hpp"
 #include "shellflow/obj_writer/obj_writer.hpp"
 #include "shellflow/ply_writer/ply_writer.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::mesh_output::testing {
 namespace {
+
+using sdk::write_file_atomically;
 
 TEST(FrameFileName, ReplacesSlashesAndPadsTheFrame) {
   EXPECT_EQ(frame_file_name("solids/cup", 3, "obj"), "solids_cup_0003.obj");

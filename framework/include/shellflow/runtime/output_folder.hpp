@@ -12,8 +12,4 @@ namespace shellflow::runtime {
 /// run). @throw IoError saying what is there and what to do.
 void prepare_output_folder(const std::filesystem::path& dir, bool overwrite);
 
-/// Writes `text` to `file` through a temporary file and a rename, so readers never see
-/// half a file. @throw IoError.
-void write_file_atomically(const std::filesystem::path& file, const std::string& text);
-
 }  // namespace shellflow::runtime
