@@ -22,3 +22,20 @@ function(shellflow_add_plugin name)
   # of the harness alone still yields a runnable tree.
   set_property(GLOBAL APPEND PROPERTY SHELLFLOW_PLUGIN_TARGETS ${target})
 endfunction()
+
+# shellflow_add_plugin_core(<name> SOURCES <files...> [PUBLIC <targets...>] [PRIVATE <targets...>])
+#
+# The static library `shellflow_<name>_core` (alias shellflow::<name>_core) holding a
+# plugin's physics or format code, so that both the plugin module and its tests link it.
+# Its include/ folder is public; it links libshellflow publicly.
+function(shellflow_add_plugin_core name)
+  cmake_parse_arguments(ARG "" "" "SOURCES;PUBLIC;PRIVATE" ${ARGN})
+  set(target shellflow_${name}_core)
+  add_library(${target} STATIC ${ARG_SOURCES})
+  add_library(shellflow::${name}_core ALIAS ${target})
+  shellflow_target_defaults(${target})
+  if(EXISTS ${CMAKE_CURRENT_SOURCE_DIR}/include)
+    target_include_directories(${target} PUBLIC ${CMAKE_CURRENT_SOURCE_DIR}/include)
+  endif()
+  target_link_libraries(${target} PUBLIC shellflow::shellflow ${ARG_PUBLIC} PRIVATE ${ARG_PRIVATE})
+endfunction()
