@@ -6,6 +6,7 @@
 #include "shellflow/grid_fluid/face_node_transfer.hpp"
 #include "shellflow/linear/cholmod_solver.hpp"
 #include "shellflow/linear/pcg_mic0_solver.hpp"
+#include "shellflow/linear/preconditioned_cg.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -16,8 +17,8 @@ PressureProjection::PressureProjection(const grid::UniformGrid& grid, Projection
   const std::int64_t cells = m_grid.size(Location::Cell);
   for (int a = 0; a < 3; ++a) m_neumann[a].assign(m_grid.size(face_location(a)), 0);
   m_region.assign(cells, -1);
-  m_row.assign(cells, -1);
   m_scaled.assign(cells, 0.0);
+  m_laplacian = linear::GridLaplacian(m_grid.cells());
 }
 
 std::int64_t PressureProjection::neighbour(const Eigen::Vector3i& c, int axis, int side) const {
@@ -75,45 +76,77 @@ void PressureProjection::mark_neumann(MacGrid& mac, const DomainBoundary& bounda
   }
 }
 
-void PressureProjection::flood_fill(const DomainBoundary& boundary) {
+void PressureProjection::flood_fill(const DomainBoundary& boundary, bool shell_faces) {
   const std::int64_t cells = m_grid.size(Location::Cell);
-  std::fill(m_region.begin(), m_region.end(), -1);
   m_enclosed.clear();
-  std::vector<std::int64_t> stack;
-  int regions = 0;
   std::vector<std::int64_t> counts;
-  for (std::int64_t seed = 0; seed < cells; ++seed) {
-    if (m_region[seed] >= 0) continue;
-    const int r = regions++;
+  int regions = 0;
+  if (!shell_faces) {
+    // Only domain faces are closed: every cell is connected to every other (the fast path
+    // away from shells); the region is open when one side of the domain is.
     bool open = false;
-    std::int64_t size = 0;
-    m_region[seed] = r;
-    stack.push_back(seed);
-    while (!stack.empty()) {
-      const std::int64_t cell = stack.back();
-      stack.pop_back();
-      ++size;
-      const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
-      for (int a = 0; a < 3; ++a)
-        for (int side = 0; side < 2; ++side) {
-          if (m_neumann[a][face_of(c, a, side)] != 0) continue;
-          const std::int64_t nb = neighbour(c, a, side);
-          if (nb < 0) {
-            open = open || boundary.side(a, side).type == BoundaryType::Open;
-            continue;
-          }
-          if (m_region[nb] >= 0) continue;
+    for (int a = 0; a < 3; ++a)
+      for (int side = 0; side < 2; ++side)
+        open = open || boundary.side(a, side).type == BoundaryType::Open;
+    std::fill(m_region.begin(), m_region.end(), 0);
+    m_enclosed.push_back(open ? 0 : 1);
+    counts.push_back(cells);
+    regions = 1;
+  } else {
+    std::fill(m_region.begin(), m_region.end(), -1);
+    const Eigen::Vector3i n = m_grid.cells();
+    const std::int64_t nx = n.x(), ny = n.y(), plane = nx * ny;
+    const std::uint8_t* closed_x = m_neumann[0].data();
+    const std::uint8_t* closed_y = m_neumann[1].data();
+    const std::uint8_t* closed_z = m_neumann[2].data();
+    const bool open_side[3][2] = {
+        {boundary.side(0, 0).type == BoundaryType::Open, boundary.side(0, 1).type == BoundaryType::Open},
+        {boundary.side(1, 0).type == BoundaryType::Open, boundary.side(1, 1).type == BoundaryType::Open},
+        {boundary.side(2, 0).type == BoundaryType::Open, boundary.side(2, 1).type == BoundaryType::Open}};
+    std::vector<std::int64_t> stack;
+    for (std::int64_t seed = 0; seed < cells; ++seed) {
+      if (m_region[seed] >= 0) continue;
+      const int r = regions++;
+      bool open = false;
+      std::int64_t size = 0;
+      m_region[seed] = r;
+      stack.push_back(seed);
+      // Visits the neighbour across an open face, or notes an open domain face.
+      const auto visit = [&](bool inside, std::int64_t nb, bool open_domain_face) {
+        if (!inside) {
+          open = open || open_domain_face;
+        } else if (m_region[nb] < 0) {
           m_region[nb] = r;
           stack.push_back(nb);
         }
+      };
+      while (!stack.empty()) {
+        const std::int64_t c = stack.back();
+        stack.pop_back();
+        ++size;
+        const std::int64_t i = c % nx, j = (c / nx) % ny, k = c / plane;
+        const std::int64_t fx = i + (nx + 1) * (j + ny * k);
+        const std::int64_t fy = i + nx * (j + (ny + 1) * k);
+        if (!closed_x[fx]) visit(i > 0, c - 1, open_side[0][0]);
+        if (!closed_x[fx + 1]) visit(i + 1 < nx, c + 1, open_side[0][1]);
+        if (!closed_y[fy]) visit(j > 0, c - nx, open_side[1][0]);
+        if (!closed_y[fy + nx]) visit(j + 1 < ny, c + nx, open_side[1][1]);
+        if (!closed_z[c]) visit(k > 0, c - plane, open_side[2][0]);
+        if (!closed_z[c + plane]) visit(k + 1 < n.z(), c + plane, open_side[2][1]);
+      }
+      m_enclosed.push_back(open ? 0 : 1);
+      counts.push_back(size);
     }
-    m_enclosed.push_back(open ? 0 : 1);
-    counts.push_back(size);
   }
   // Cells of each region, in cell order (CSR).
   m_region_start.assign(regions + 1, 0);
   for (int r = 0; r < regions; ++r) m_region_start[r + 1] = m_region_start[r] + counts[r];
   m_region_cells.resize(cells);
+  if (regions == 1) {
+#pragma omp parallel for schedule(static)
+    for (std::int64_t cell = 0; cell < cells; ++cell) m_region_cells[cell] = cell;
+    return;
+  }
   std::vector<std::int64_t> fill(m_region_start.begin(), m_region_start.end() - 1);
   for (std::int64_t cell = 0; cell < cells; ++cell) m_region_cells[fill[m_region[cell]]++] = cell;
 }
@@ -166,64 +199,78 @@ void PressureProjection::correct_compatibility(MacGrid& mac, ProjectionStats& st
   }
 }
 
-void PressureProjection::solve_region(int r, const MacGrid& mac, const DomainBoundary& boundary,
-                                      double scale, ProjectionStats& stats) {
-  const std::int64_t begin = m_region_start[r];
-  const int size = static_cast<int>(m_region_start[r + 1] - begin);
-  const bool enclosed = m_enclosed[r] != 0;
-  for (int k = 0; k < size; ++k) m_row[m_region_cells[begin + k]] = k;
-
-  Eigen::VectorXd b(size);
-  Eigen::VectorXd x(size);
-  std::vector<Eigen::Triplet<double, int>> triplets;
-  triplets.reserve(static_cast<size_t>(size) * 7);
-  for (int k = 0; k < size; ++k) {
-    const std::int64_t cell = m_region_cells[begin + k];
-    const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
-    double diag = 0.0;
-    for (int a = 0; a < 3; ++a)
-      for (int side = 0; side < 2; ++side) {
-        if (m_neumann[a][face_of(c, a, side)] != 0) continue;
-        const std::int64_t nb = neighbour(c, a, side);
-        diag += 1.0;
-        if (nb >= 0) triplets.emplace_back(k, m_row[nb], -1.0);
-        (void)boundary;  // outside the domain behind a non-Neumann face: Dirichlet p = 0
-      }
-    triplets.emplace_back(k, k, diag);
-    b[k] = -mac.outward_flux(c);
-    x[k] = m_scaled[cell];
+void PressureProjection::build_operator() {
+  // Face weights: 1 where the face is open (interior or Dirichlet domain face), 0 where
+  // it is Neumann (shell, wall, inflow) — the same face layout as the MAC grid.
+  for (int a = 0; a < 3; ++a) {
+    const auto& flags = m_neumann[a];
+    auto& w = m_laplacian.weights(a);
+    const std::int64_t count = static_cast<std::int64_t>(w.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t f = 0; f < count; ++f) w[f] = flags[f] != 0 ? 0.0 : 1.0;
   }
-  if (enclosed) b.array() -= b.mean();  // consistent to round-off after the correction
+  // Enclosed regions, numbered 0.. in region order: their constants are the null space.
+  const int regions = static_cast<int>(m_enclosed.size());
+  std::vector<int> group_of_region(regions, -1);
+  m_enclosed_count = 0;
+  m_first_enclosed_cell.clear();
+  for (int r = 0; r < regions; ++r)
+    if (m_enclosed[r] != 0) {
+      group_of_region[r] = m_enclosed_count++;
+      m_first_enclosed_cell.push_back(static_cast<int>(m_region_cells[m_region_start[r]]));
+    }
+  std::vector<int> group(m_region.size(), -1);
+  if (m_enclosed_count > 0)
+    for (size_t c = 0; c < group.size(); ++c) group[c] = group_of_region[m_region[c]];
+  m_null_space = linear::ConstantNullSpace(std::move(group), m_enclosed_count);
+
+  if (m_settings.solver == PressureSolver::Pcg &&
+      m_settings.preconditioner == PressurePreconditioner::Multigrid) {
+    m_multigrid.compute(m_laplacian);
+  } else {
+    m_matrix = m_laplacian.to_sparse();  // rows filled directly, no triplets
+    if (m_settings.solver == PressureSolver::Cholmod)
+      for (const int c : m_first_enclosed_cell)
+        m_matrix.coeffRef(c, c) += 1.0;  // fixes the constant; exact for a consistent b
+  }
+}
+
+void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats& stats) {
+  const int n = m_laplacian.size();
+  Eigen::VectorXd b(n);
+  Eigen::Map<Eigen::VectorXd> scaled(m_scaled.data(), n);
+  cell_fluxes(mac, b);
+  b = -b;
+  m_null_space.project(b);  // consistent to round-off after the correction
   if (b.lpNorm<Eigen::Infinity>() == 0.0) {
-    for (int k = 0; k < size; ++k) m_scaled[m_region_cells[begin + k]] = 0.0;
+    scaled.setZero();
     return;
   }
-  if (m_settings.solver == PressureSolver::Cholmod && enclosed) {
-    triplets.emplace_back(0, 0, 1.0);  // fixes the constant; exact for a consistent b
-  }
-  linear::SparseMatrix A(size, size);
-  A.setFromTriplets(triplets.begin(), triplets.end());
-  A.makeCompressed();
-
-  linear::SolveStats solve;
+  Eigen::VectorXd x = scaled;
+  linear::SolveStats result;
   if (m_settings.solver == PressureSolver::Cholmod) {
     linear::CholmodSolver direct;
-    direct.compute(A);
-    solve = direct.solve(b, x);
+    direct.compute(m_matrix);
+    result = direct.solve(b, x);
   } else {
     // |r|_2 <= tol |b|_2, and also |r|_inf <= |r|_2 <= tol · max|u*| (the divergence bound).
     const double tolerance =
         std::min(m_settings.tolerance, m_settings.tolerance * scale / b.norm());
-    linear::PcgMic0Solver pcg;
-    pcg.compute(A);
-    solve = pcg.solve(b, x, tolerance, m_settings.max_iterations);
-    solve.converged = solve.converged || solve.relative_residual <= tolerance;
+    if (m_settings.preconditioner == PressurePreconditioner::Multigrid) {
+      result = linear::preconditioned_cg(m_laplacian, m_multigrid, b, x, tolerance,
+                                         m_settings.max_iterations, &m_null_space);
+    } else {
+      linear::PcgMic0Solver pcg;
+      pcg.compute(m_matrix);
+      result = pcg.solve(b, x, tolerance, m_settings.max_iterations);
+    }
+    result.converged = result.converged || result.relative_residual <= tolerance;
   }
-  stats.iterations += solve.iterations;
-  stats.max_region_iterations = std::max(stats.max_region_iterations, solve.iterations);
-  stats.relative_residual = std::max(stats.relative_residual, solve.relative_residual);
-  stats.converged = stats.converged && solve.converged;
-  for (int k = 0; k < size; ++k) m_scaled[m_region_cells[begin + k]] = x[k];
+  stats.iterations += result.iterations;
+  stats.max_region_iterations = std::max(stats.max_region_iterations, result.iterations);
+  stats.relative_residual = std::max(stats.relative_residual, result.relative_residual);
+  stats.converged = stats.converged && result.converged;
+  scaled = x;
 }
 
 ProjectionStats PressureProjection::project(MacGrid& mac, double dt,
@@ -233,11 +280,12 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt,
   ProjectionStats stats;
   apply_boundary_velocities(mac, boundary);
   mark_neumann(mac, boundary, shells, band, stats);
-  flood_fill(boundary);
+  flood_fill(boundary, stats.shell_neumann_faces > 0);
   const int regions = static_cast<int>(m_enclosed.size());
   stats.regions = regions;
   for (const auto e : m_enclosed) stats.enclosed_regions += e;
   correct_compatibility(mac, stats);
+  build_operator();
 
   // Solve, update the faces, and measure; a PCG solve whose largest cell divergence is
   // still above tolerance × max|u| (its stopping test bounds the 2-norm against max|u*|)
@@ -249,7 +297,7 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt,
   for (int pass = 0; pass < passes; ++pass) {
     const double scale = std::max(mac.max_face_speed(), 1e-300);
     if (pass > 0) std::fill(m_scaled.begin(), m_scaled.end(), 0.0);
-    for (int r = 0; r < regions; ++r) solve_region(r, mac, boundary, scale, stats);
+    solve(mac, scale, stats);
     apply_pressure(mac);
     for (size_t i = 0; i < total.size(); ++i) total[i] += m_scaled[i];
     max_div = max_cell_divergence(mac);
@@ -264,35 +312,58 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt,
   return stats;
 }
 
+void PressureProjection::cell_fluxes(const MacGrid& mac, Eigen::VectorXd& flux) const {
+  // Σ over the six faces of u·n per cell (MacGrid::outward_flux), one grid row at a time.
+  const Eigen::Vector3i n = m_grid.cells();
+  const std::int64_t nx = n.x(), ny = n.y(), plane = nx * ny;
+  const double* u = mac.face_velocity(0).data();
+  const double* v = mac.face_velocity(1).data();
+  const double* w = mac.face_velocity(2).data();
+  flux.resize(m_grid.size(Location::Cell));
+  double* out = flux.data();
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j) {
+      const std::int64_t c = nx * (j + ny * k);
+      const double* ux = u + (nx + 1) * (j + ny * k);
+      const double* vy = v + nx * (j + (ny + 1) * k);
+      const double* wz = w + c;
+      for (std::int64_t i = 0; i < nx; ++i)
+        out[c + i] = (ux[i + 1] - ux[i]) + (vy[i + nx] - vy[i]) + (wz[i + plane] - wz[i]);
+    }
+}
+
 void PressureProjection::apply_pressure(MacGrid& mac) const {
   // u = u* − (p'_+ − p'_−) on every non-Neumann face (eq. (3)); p' = 0 outside open faces.
+  const Eigen::Vector3i cells = m_grid.cells();
+  const std::int64_t stride[3] = {1, cells.x(), std::int64_t(cells.x()) * cells.y()};
+  const double* p = m_scaled.data();
   for (int a = 0; a < 3; ++a) {
-    const Location loc = face_location(a);
-    auto& u = mac.face_velocity(a);
-    const auto& flags = m_neumann[a];
-    const std::int64_t count = m_grid.size(loc);
-    const Eigen::Vector3i cells = m_grid.cells();
-#pragma omp parallel for schedule(static)
-    for (std::int64_t f = 0; f < count; ++f) {
-      if (flags[f] != 0) continue;
-      const Eigen::Vector3i ijk = m_grid.coordinates(loc, f);
-      Eigen::Vector3i lo = ijk;
-      lo[a] -= 1;
-      const double p_minus = ijk[a] > 0 ? m_scaled[m_grid.index(Location::Cell, lo)] : 0.0;
-      const double p_plus = ijk[a] < cells[a] ? m_scaled[m_grid.index(Location::Cell, ijk)] : 0.0;
-      u[f] -= p_plus - p_minus;
-    }
+    const Eigen::Vector3i n = m_grid.counts(face_location(a));
+    double* u = mac.face_velocity(a).data();
+    const std::uint8_t* flags = m_neumann[a].data();
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int k = 0; k < n.z(); ++k)
+      for (int j = 0; j < n.y(); ++j) {
+        const std::int64_t row = std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
+        for (int i = 0; i < n.x(); ++i) {
+          const std::int64_t f = row + i;
+          if (flags[f] != 0) continue;
+          const int along = a == 0 ? i : (a == 1 ? j : k);
+          // The cell on the face's + side has the face's coordinates.
+          const std::int64_t hi = i + std::int64_t(cells.x()) * (j + std::int64_t(cells.y()) * k);
+          const double p_plus = along < cells[a] ? p[hi] : 0.0;
+          const double p_minus = along > 0 ? p[hi - stride[a]] : 0.0;
+          u[f] -= p_plus - p_minus;
+        }
+      }
   }
 }
 
 double PressureProjection::max_cell_divergence(const MacGrid& mac) const {
-  const std::int64_t cells = m_grid.size(Location::Cell);
-  double max_div = 0.0;
-#pragma omp parallel for reduction(max : max_div)
-  for (std::int64_t cell = 0; cell < cells; ++cell)
-    max_div = std::max(max_div,
-                       std::abs(mac.outward_flux(m_grid.coordinates(Location::Cell, cell))));
-  return max_div;
+  Eigen::VectorXd flux;
+  cell_fluxes(mac, flux);
+  return flux.lpNorm<Eigen::Infinity>();
 }
 
 }  // namespace shellflow::grid_fluid

@@ -1,23 +1,18 @@
 #pragma once
 // PcgMic0Solver: conjugate gradients preconditioned with the modified incomplete
-// Cholesky factorisation MIC(0), in double precision — the pressure solver of the
-// MAC-grid projection (§4.3, Guendelman et al. 2005). After Bridson & Müller-Fischer,
-// "Fluid Simulation", SIGGRAPH 2007 course notes §4 (Bridson, "Fluid Simulation for
-// Computer Graphics" 2008, ch. 4.3.2), generalised from the 7-point stencil to any
-// matrix with a full symmetric pattern:
-//   A ≈ (D + U^T) D^{-1} (D + U),  U strictly upper on the pattern of A,
-// where fill-in that falls outside the pattern is dropped and a fraction tau of it is
-// moved to the diagonal (tau = 0: IC(0), tau = 1: row sums kept, MIC). A pivot below
-// sigma times the original diagonal is replaced by that diagonal (Bridson's guard), so
-// a singular but consistent all-Neumann system factors without dividing by zero.
+// Cholesky factorisation MIC(0), in double precision — the matrix form of the pressure
+// solver of the MAC-grid projection (§4.3, Guendelman et al. 2005). It pairs a
+// Mic0Preconditioner (the factorisation; see its header for the method, after Bridson
+// 2008, ch. 4.3.2) with preconditioned_cg() on a CsrOperator.
 //
 // Threads: the matrix-vector product and the vector operations of CG run with OpenMP;
-// the factorisation and the two triangular solves of the preconditioner are sequential
-// (a wavefront/red-black ordering or multigrid preconditioner is the parallel follow-up).
+// the factorisation and the two triangular solves of MIC(0) are sequential (the parallel
+// alternative for grid problems is MultigridPreconditioner on a GridLaplacian).
 
 #include <Eigen/Core>
 #include <vector>
 
+#include "shellflow/linear/mic0_preconditioner.hpp"
 #include "shellflow/linear/solve_stats.hpp"
 #include "shellflow/linear/sparse_matrix.hpp"
 
@@ -48,22 +43,17 @@ class PcgMic0Solver {
   /// Applies the preconditioner: z = M^{-1} r with M = (D + U^T) D^{-1} (D + U).
   void apply_preconditioner(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
 
-  double mic_tau() const { return m_tau; }
-  double mic_sigma() const { return m_sigma; }
+  double mic_tau() const { return m_preconditioner.tau(); }
+  double mic_sigma() const { return m_preconditioner.sigma(); }
   /// Number of unknowns of the factored matrix (0 before compute()).
-  int size() const { return static_cast<int>(m_inverse_pivot.size()); }
+  int size() const { return m_computed ? m_preconditioner.size() : 0; }
+  /// The MIC(0) factorisation (valid after compute()).
+  const Mic0Preconditioner& preconditioner() const { return m_preconditioner; }
 
  private:
-  double m_tau;
-  double m_sigma;
+  Mic0Preconditioner m_preconditioner;
   bool m_computed = false;
   SparseMatrix m_a;
-  // Strictly upper part U of the factor, CSR: row i holds u_ij for j > i.
-  std::vector<int> m_upper_start;
-  std::vector<int> m_upper_column;
-  std::vector<double> m_upper_value;
-  // 1 / d_i for the pivots D.
-  std::vector<double> m_inverse_pivot;
 };
 
 }  // namespace shellflow::linear

@@ -13,10 +13,15 @@
 //    faces shared with an already corrected region are left alone so that it stays
 //    compatible (a pocket corrects the faces it shares with its surroundings, the
 //    surroundings then correct their walls);
-//  - each region is solved on its own: PCG with MIC(0) in double precision
-//    (linear::PcgMic0Solver; enclosed regions as consistent semidefinite systems) or a
-//    CHOLMOD factorisation (linear::CholmodSolver; enclosed regions with one diagonal
-//    entry raised by 1, exact for a consistent right-hand side).
+//  - all regions are solved together (the Laplacian is block diagonal over them; each
+//    enclosed region's right-hand side has its mean removed, making the semidefinite
+//    system consistent) by one of
+//      PCG with a multigrid V-cycle (McAdams, Sifakis & Teran 2010) on the matrix-free
+//      7-point operator (linear::GridLaplacian, face weights 1 − Neumann flag), with each
+//      enclosed region's constant projected out of the preconditioned residual;
+//      PCG with MIC(0) (linear::PcgMic0Solver) on the same operator filled as CSR;
+//      a CHOLMOD factorisation (linear::CholmodSolver; one diagonal entry per enclosed
+//      region raised by 1, exact for a consistent right-hand side), the reference.
 // Unknowns are the scaled pressures p' = p Δt / Δx, so the system is the graph Laplacian
 // of the fluid cells, A p' = −Σ_faces u*·n (per cell), and u_f = u*_f − (p'_+ − p'_−).
 
@@ -28,13 +33,19 @@
 #include "shellflow/grid_fluid/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac_grid.hpp"
 #include "shellflow/grid_fluid/shell_geometry.hpp"
+#include "shellflow/linear/constant_null_space.hpp"
+#include "shellflow/linear/grid_laplacian.hpp"
+#include "shellflow/linear/multigrid_preconditioner.hpp"
 
 namespace shellflow::grid_fluid {
 
 enum class PressureSolver { Pcg, Cholmod };
+/// Preconditioner of PressureSolver::Pcg.
+enum class PressurePreconditioner { Multigrid, Mic0 };
 
 struct ProjectionSettings {
   PressureSolver solver = PressureSolver::Pcg;
+  PressurePreconditioner preconditioner = PressurePreconditioner::Multigrid;
   /// Relative residual |b − A p| / |b| of each region's solve; tightened so that the
   /// largest cell divergence after projection is also <= tolerance × max|u*|.
   double tolerance = 1e-6;
@@ -44,9 +55,9 @@ struct ProjectionSettings {
 struct ProjectionStats {
   int regions = 0;            ///< connected fluid regions
   int enclosed_regions = 0;   ///< regions without a Dirichlet face (compatibility corrected)
-  int iterations = 0;         ///< PCG iterations, summed over the regions
-  int max_region_iterations = 0;
-  double relative_residual = 0.0;  ///< largest over the regions
+  int iterations = 0;         ///< PCG iterations, summed over the solves (refinement passes)
+  int max_region_iterations = 0;   ///< PCG iterations of the longest single solve
+  double relative_residual = 0.0;  ///< largest over the solves
   bool converged = true;
   std::int64_t shell_neumann_faces = 0;  ///< faces closed by a shell (Fig. 5)
   double max_compatibility_flux = 0.0;   ///< largest |net boundary flux| corrected [m^3/s / dx^2]
@@ -78,12 +89,18 @@ class PressureProjection {
  private:
   void mark_neumann(MacGrid& mac, const DomainBoundary& boundary, const ShellGeometry& shells,
                     const geometry::ShellBand* band, ProjectionStats& stats);
-  void flood_fill(const DomainBoundary& boundary);
+  /// `shell_faces`: whether any face is closed by a shell (without, one region).
+  void flood_fill(const DomainBoundary& boundary, bool shell_faces);
   void correct_compatibility(MacGrid& mac, ProjectionStats& stats);
-  void solve_region(int r, const MacGrid& mac, const DomainBoundary& boundary, double scale,
-                    ProjectionStats& stats);
+  /// Face weights of the Laplacian (1 − Neumann flag) and the enclosed groups.
+  void build_operator();
+  /// One solve of A p' = b for the current face velocities into m_scaled (warm start:
+  /// m_scaled on entry). `scale` = max|u*|.
+  void solve(const MacGrid& mac, double scale, ProjectionStats& stats);
 
   void apply_pressure(MacGrid& mac) const;
+  /// flux[c] = Σ over the six faces of cell c of u·n (= ∇·u Δx) [m/s].
+  void cell_fluxes(const MacGrid& mac, Eigen::VectorXd& flux) const;
   /// max over cells |Σ u·n|.
   double max_cell_divergence(const MacGrid& mac) const;
   /// Neighbour of cell `c` across its face (axis, side): the cell, or -1 outside.
@@ -102,8 +119,13 @@ class PressureProjection {
   std::vector<std::uint8_t> m_enclosed;
   std::vector<std::int64_t> m_region_start;  ///< CSR of the cells of each region
   std::vector<std::int64_t> m_region_cells;
-  std::vector<int> m_row;       ///< cell -> row in its region's system
   std::vector<double> m_scaled; ///< p' = p Δt / Δx, kept as the next initial guess
+  linear::GridLaplacian m_laplacian;
+  linear::ConstantNullSpace m_null_space;  ///< constants of the enclosed regions
+  int m_enclosed_count = 0;
+  std::vector<int> m_first_enclosed_cell;  ///< per enclosed group (CHOLMOD's pinned cell)
+  linear::MultigridPreconditioner m_multigrid;
+  linear::SparseMatrix m_matrix;           ///< CSR form for MIC(0) and CHOLMOD
 };
 
 }  // namespace shellflow::grid_fluid

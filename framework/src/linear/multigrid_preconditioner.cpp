@@ -1,0 +1,319 @@
+#include "shellflow/linear/multigrid_preconditioner.hpp"
+
+#include <algorithm>
+#include <string>
+
+#include "cell_stencil.hpp"
+#include "parallel_threshold.hpp"
+#include "shellflow/sdk/error.hpp"
+
+namespace shellflow::linear {
+namespace {
+
+using detail::kParallelThreshold;
+using Level = MultigridPreconditioner::Level;
+
+// Coarsen while every axis has at least this many cells (coarsest: 4–7 on the shortest).
+constexpr int kMinCellsToCoarsen = 8;
+
+/// The two coarse parents of fine cell f along one axis under trilinear interpolation
+/// between cell centres: f/2 with weight 3/4 and its neighbour on f's side with 1/4, or
+/// f/2 alone (weight 1) where that neighbour lies outside the domain.
+struct Parents {
+  int first, second;
+  float first_weight, second_weight;
+};
+
+Parents parents_of(int f, int coarse) {
+  const int near = f / 2;
+  const int far = (f % 2 == 1) ? near + 1 : near - 1;
+  if (far < 0 || far >= coarse) return {near, near, 1.0f, 0.0f};
+  return {near, far, 0.75f, 0.25f};
+}
+
+/// Children of coarse cell I along one axis with their restriction weights: exactly the
+/// transpose of parents_of (so that R = P^T and the V-cycle stays symmetric).
+struct Children {
+  int count = 0;
+  int fine[4];
+  float weight[4];
+};
+
+std::vector<Children> children_along(int fine_cells, int coarse_cells) {
+  std::vector<Children> out(coarse_cells);
+  for (int f = 0; f < fine_cells; ++f) {
+    const Parents p = parents_of(f, coarse_cells);
+    for (const auto& [coarse, w] : {std::pair{p.first, p.first_weight},
+                                    std::pair{p.second, p.second_weight}}) {
+      if (w == 0.0f) continue;
+      auto& c = out[coarse];
+      c.fine[c.count] = f;
+      c.weight[c.count] = w;
+      ++c.count;
+    }
+  }
+  return out;
+}
+
+bool parallel(const Level& level) {
+  return level.cells.prod() >= kParallelThreshold;
+}
+
+void compute_inverse_diagonal(Level& level) {
+  const auto s = detail::stencil_of(level.cells);
+  level.inverse_diagonal.resize(level.cells.prod());
+  const float* wx = level.weight[0].data();
+  const float* wy = level.weight[1].data();
+  const float* wz = level.weight[2].data();
+  const float* x = level.inverse_diagonal.data();  // not read: the sum is ignored
+  float* out = level.inverse_diagonal.data();
+#pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
+  for (int k = 0; k < s.nz; ++k)
+    for (int j = 0; j < s.ny; ++j)
+      detail::for_row(s, wx, wy, wz, x, j, k, 0, 1, [&](int, std::int64_t c, float d, float) {
+        out[c] = d > 0.0f ? 1.0f / d : 0.0f;  // isolated cell: left at 0
+      });
+}
+
+/// Coarse face weights: half the sum of the fine face weights each coarse face covers.
+void coarsen_weights(const Level& fine, Level& coarse) {
+  for (int a = 0; a < 3; ++a) {
+    Eigen::Vector3i fine_faces = fine.cells;
+    fine_faces[a] += 1;
+    Eigen::Vector3i coarse_faces = coarse.cells;
+    coarse_faces[a] += 1;
+    auto& out = coarse.weight[a];
+    out.resize(coarse_faces.prod());
+    const auto& in = fine.weight[a];
+    const bool go = coarse_faces.prod() >= kParallelThreshold;
+#pragma omp parallel for collapse(2) schedule(static) if (go)
+    for (int K = 0; K < coarse_faces.z(); ++K)
+      for (int J = 0; J < coarse_faces.y(); ++J)
+        for (int I = 0; I < coarse_faces.x(); ++I) {
+          const Eigen::Vector3i C(I, J, K);
+          // Fine range per axis: the coinciding face along a, two children across.
+          int lo[3], hi[3];
+          for (int d = 0; d < 3; ++d) {
+            if (d == a) {
+              lo[d] = hi[d] = std::min(2 * C[d], fine.cells[d]);
+            } else {
+              lo[d] = 2 * C[d];
+              hi[d] = std::min(2 * C[d] + 1, fine.cells[d] - 1);
+            }
+          }
+          float sum = 0.0f;
+          for (int k = lo[2]; k <= hi[2]; ++k)
+            for (int j = lo[1]; j <= hi[1]; ++j)
+              for (int i = lo[0]; i <= hi[0]; ++i)
+                sum += in[i + std::int64_t(fine_faces.x()) * (j + std::int64_t(fine_faces.y()) * k)];
+          out[I + std::int64_t(coarse_faces.x()) * (J + std::int64_t(coarse_faces.y()) * K)] =
+              0.5f * sum;
+        }
+  }
+}
+
+/// One red (color 0) or black (color 1) Gauss–Seidel half sweep: x_c = (b_c + Σ w x_nb) / A_cc
+/// on the cells with (i + j + k) % 2 == color; cells of one color only read the other's.
+void half_sweep(const Level& level, int color) {
+  const auto s = detail::stencil_of(level.cells);
+  const float* wx = level.weight[0].data();
+  const float* wy = level.weight[1].data();
+  const float* wz = level.weight[2].data();
+  float* x = level.x.data();
+  const float* b = level.b.data();
+  const float* inverse = level.inverse_diagonal.data();
+#pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
+  for (int k = 0; k < s.nz; ++k)
+    for (int j = 0; j < s.ny; ++j)
+      detail::for_row(s, wx, wy, wz, static_cast<const float*>(x), j, k, (j + k + color) & 1, 2,
+                      [&](int, std::int64_t c, float, float sum) {
+                        x[c] = (b[c] + sum) * inverse[c];
+                      });
+}
+
+/// r = b − A x on a level.
+void level_residual(const Level& level) {
+  const auto s = detail::stencil_of(level.cells);
+  const float* wx = level.weight[0].data();
+  const float* wy = level.weight[1].data();
+  const float* wz = level.weight[2].data();
+  const float* x = level.x.data();
+  const float* b = level.b.data();
+  float* r = level.r.data();
+#pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
+  for (int k = 0; k < s.nz; ++k)
+    for (int j = 0; j < s.ny; ++j)
+      detail::for_row(s, wx, wy, wz, x, j, k, 0, 1, [&](int, std::int64_t c, float d, float sum) {
+        r[c] = b[c] - (d * x[c] - sum);
+      });
+}
+
+/// coarse.b = P^T fine.r.
+void restrict_residual(const Level& fine, const Level& coarse,
+                       const std::array<std::vector<Children>, 3>& children) {
+  const Eigen::Vector3i n = coarse.cells;
+  const std::int64_t fnx = fine.cells.x(), fplane = fnx * fine.cells.y();
+  const float* r = fine.r.data();
+  float* b = coarse.b.data();
+#pragma omp parallel for collapse(2) schedule(static) if (parallel(fine))
+  for (int K = 0; K < n.z(); ++K)
+    for (int J = 0; J < n.y(); ++J) {
+      const Children& cz = children[2][K];
+      const Children& cy = children[1][J];
+      for (int I = 0; I < n.x(); ++I) {
+        const Children& cx = children[0][I];
+        float sum = 0.0f;
+        for (int c = 0; c < cz.count; ++c)
+          for (int bb = 0; bb < cy.count; ++bb) {
+            const float* row = r + cz.fine[c] * fplane + cy.fine[bb] * fnx;
+            float line = 0.0f;
+            for (int a = 0; a < cx.count; ++a) line += cx.weight[a] * row[cx.fine[a]];
+            sum += cz.weight[c] * cy.weight[bb] * line;
+          }
+        b[I + n.x() * (J + std::int64_t(n.y()) * K)] = sum;
+      }
+    }
+}
+
+/// fine.x += P coarse.x.
+void prolongate_add(const Level& coarse, const Level& fine,
+                    const std::array<std::vector<Parents>, 3>& parents) {
+  const Eigen::Vector3i n = fine.cells;
+  const std::int64_t cnx = coarse.cells.x(), cplane = cnx * coarse.cells.y();
+  const float* xc = coarse.x.data();
+  float* x = fine.x.data();
+#pragma omp parallel for collapse(2) schedule(static) if (parallel(fine))
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j) {
+      const Parents& pz = parents[2][k];
+      const Parents& py = parents[1][j];
+      const float* rows[4] = {xc + pz.first * cplane + py.first * cnx,
+                              xc + pz.first * cplane + py.second * cnx,
+                              xc + pz.second * cplane + py.first * cnx,
+                              xc + pz.second * cplane + py.second * cnx};
+      const float w[4] = {pz.first_weight * py.first_weight, pz.first_weight * py.second_weight,
+                          pz.second_weight * py.first_weight, pz.second_weight * py.second_weight};
+      float* out = x + std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
+      for (int i = 0; i < n.x(); ++i) {
+        const Parents& px = parents[0][i];
+        float sum = 0.0f;
+        for (int q = 0; q < 4; ++q)
+          sum += w[q] * (px.first_weight * rows[q][px.first] + px.second_weight * rows[q][px.second]);
+        out[i] += sum;
+      }
+    }
+}
+
+void zero(std::vector<float>& v, bool go) {
+  const std::int64_t n = static_cast<std::int64_t>(v.size());
+  float* p = v.data();
+#pragma omp parallel for schedule(static) if (go)
+  for (std::int64_t i = 0; i < n; ++i) p[i] = 0.0f;
+}
+
+}  // namespace
+
+MultigridPreconditioner::MultigridPreconditioner(MultigridSettings settings)
+    : m_settings(settings) {
+  if (settings.smoothing_sweeps < 1 || settings.coarsest_sweeps < 1)
+    throw Error("MultigridPreconditioner: smoothing_sweeps and coarsest_sweeps must be >= 1, got " +
+                std::to_string(settings.smoothing_sweeps) + " and " +
+                std::to_string(settings.coarsest_sweeps));
+}
+
+void MultigridPreconditioner::compute(const GridLaplacian& A) {
+  // Level sizes.
+  std::vector<Eigen::Vector3i> sizes{A.cells()};
+  while (sizes.back().minCoeff() >= kMinCellsToCoarsen)
+    sizes.push_back((sizes.back().array() + 1) / 2);
+  const bool same = m_levels.size() == sizes.size() && m_levels[0].cells == sizes[0];
+  if (!same) m_levels.assign(sizes.size(), Level{});
+  for (size_t l = 0; l < sizes.size(); ++l) {
+    Level& level = m_levels[l];
+    level.cells = sizes[l];
+    const std::int64_t n = sizes[l].prod();
+    level.x.resize(n);
+    level.b.resize(n);
+    level.r.resize(n);
+  }
+  Level& fine = m_levels[0];
+  for (int a = 0; a < 3; ++a) {
+    const auto& w = A.weights(a);
+    fine.weight[a].resize(w.size());
+    const std::int64_t m = static_cast<std::int64_t>(w.size());
+    float* out = fine.weight[a].data();
+#pragma omp parallel for schedule(static) if (m >= kParallelThreshold)
+    for (std::int64_t f = 0; f < m; ++f) out[f] = static_cast<float>(w[f]);
+  }
+  compute_inverse_diagonal(fine);
+  for (size_t l = 1; l < m_levels.size(); ++l) {
+    coarsen_weights(m_levels[l - 1], m_levels[l]);
+    compute_inverse_diagonal(m_levels[l]);
+  }
+}
+
+void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
+  if (m_levels.empty() || r.size() != size())
+    throw Error("MultigridPreconditioner::apply: " + std::to_string(r.size()) +
+                " entries for a hierarchy of " + std::to_string(size()) + " cells (compute(A) first)");
+  const int levels = static_cast<int>(m_levels.size());
+  {
+    const Level& fine = m_levels[0];
+    const std::int64_t n = r.size();
+    const double* rp = r.data();
+    float* b = fine.b.data();
+#pragma omp parallel for schedule(static) if (n >= kParallelThreshold)
+    for (std::int64_t i = 0; i < n; ++i) b[i] = static_cast<float>(rp[i]);
+  }
+  // Transfer tables of each coarse level (cheap: one entry per cell along an axis).
+  std::vector<std::array<std::vector<Parents>, 3>> parents(levels);
+  std::vector<std::array<std::vector<Children>, 3>> children(levels);
+  for (int l = 1; l < levels; ++l)
+    for (int a = 0; a < 3; ++a) {
+      const int nf = m_levels[l - 1].cells[a], nc = m_levels[l].cells[a];
+      parents[l][a].resize(nf);
+      for (int f = 0; f < nf; ++f) parents[l][a][f] = parents_of(f, nc);
+      children[l][a] = children_along(nf, nc);
+    }
+
+  const int nu = m_settings.smoothing_sweeps;
+  // Down: forward smoothing (red, black) from zero, restrict the residual.
+  for (int l = 0; l + 1 < levels; ++l) {
+    const Level& level = m_levels[l];
+    zero(level.x, parallel(level));
+    for (int s = 0; s < nu; ++s) {
+      half_sweep(level, 0);
+      half_sweep(level, 1);
+    }
+    level_residual(level);
+    restrict_residual(level, m_levels[l + 1], children[l + 1]);
+  }
+  // Coarsest: symmetric Gauss–Seidel (red, black, red) from zero.
+  {
+    const Level& level = m_levels[levels - 1];
+    zero(level.x, parallel(level));
+    for (int s = 0; s < m_settings.coarsest_sweeps; ++s) {
+      half_sweep(level, 0);
+      half_sweep(level, 1);
+      half_sweep(level, 0);
+    }
+  }
+  // Up: correct, then backward smoothing (black, red): the adjoint of the way down.
+  for (int l = levels - 2; l >= 0; --l) {
+    const Level& level = m_levels[l];
+    prolongate_add(m_levels[l + 1], level, parents[l + 1]);
+    for (int s = 0; s < nu; ++s) {
+      half_sweep(level, 1);
+      half_sweep(level, 0);
+    }
+  }
+  const Level& fine = m_levels[0];
+  z.resize(r.size());
+  const std::int64_t n = r.size();
+  double* zp = z.data();
+  const float* x = fine.x.data();
+#pragma omp parallel for schedule(static) if (n >= kParallelThreshold)
+  for (std::int64_t i = 0; i < n; ++i) zp[i] = x[i];
+}
+
+}  // namespace shellflow::linear
