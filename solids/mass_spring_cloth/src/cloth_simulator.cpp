@@ -1,21 +1,20 @@
 #include "mass_spring_cloth/cloth_simulator.hpp"
 
 #include <Eigen/CholmodSupport>
-#include <Eigen/IterativeLinearSolvers>
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
+#include "mass_spring_cloth/block_jacobi_preconditioner.hpp"
+#include "mass_spring_cloth/block_pcg.hpp"
 #include "mass_spring_cloth/spring_element.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::cloth {
 
 struct ClothSimulator::LinearSolvers {
-  Eigen::ConjugateGradient<BlockSparseMatrix::Matrix, Eigen::Lower | Eigen::Upper,
-                           Eigen::DiagonalPreconditioner<double>>
-      cg;
+  BlockJacobiPreconditioner block_jacobi;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod;
-  Eigen::SparseMatrix<double> column_major;
   bool cholmod_analysed = false;
 };
 
@@ -26,6 +25,10 @@ constexpr int kParallelThreshold = 4096;
 
 Eigen::Vector3d node(const Eigen::VectorXd& x, int k) {
   return x.segment<3>(3 * k);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 }  // namespace
@@ -49,29 +52,37 @@ ClothSimulator::~ClothSimulator() = default;
 
 void ClothSimulator::build_pattern() {
   const int n = m_model.node_count();
+  const auto& springs = m_model.springs;
   std::vector<std::pair<int, int>> pairs;
-  for (const auto& s : m_model.springs) pairs.emplace_back(s.i, s.j);
+  for (const auto& s : springs) pairs.emplace_back(s.i, s.j);
   for (const auto& b : m_model.bending)
     for (int k = 0; k < 4; ++k)
       for (int l = k + 1; l < 4; ++l) pairs.emplace_back(b.nodes[k], b.nodes[l]);
   m_system.build(n, pairs);
-  m_diagonal_slots.resize(n);
-  for (int k = 0; k < n; ++k) m_diagonal_slots[k] = m_system.slot(k, k);
-  m_spring_slots.resize(m_model.springs.size());
-  for (size_t e = 0; e < m_model.springs.size(); ++e) {
-    const auto& s = m_model.springs[e];
-    m_spring_slots[e] = {m_system.slot(s.i, s.i), m_system.slot(s.i, s.j), m_system.slot(s.j, s.i),
-                         m_system.slot(s.j, s.j)};
+
+  m_spring_end_start.assign(n + 1, 0);
+  for (const auto& s : springs) ++m_spring_end_start[s.i + 1], ++m_spring_end_start[s.j + 1];
+  for (int k = 0; k < n; ++k) m_spring_end_start[k + 1] += m_spring_end_start[k];
+  m_spring_ends.resize(m_spring_end_start[n]);
+  std::vector<int> fill(m_spring_end_start.begin(), m_spring_end_start.end() - 1);
+  for (int e = 0; e < static_cast<int>(springs.size()); ++e) {
+    const auto& s = springs[e];
+    m_spring_ends[fill[s.i]++] = {e, 1.0, m_system.find(s.i, s.j)};
+    m_spring_ends[fill[s.j]++] = {e, -1.0, m_system.find(s.j, s.i)};
   }
+  m_spring_force.resize(springs.size());
+  m_spring_kv.resize(springs.size());
+  m_spring_block.resize(springs.size());
+
   // Constant Hessian of the quadratic bending energy (Bergou et al. 2006), per unit k_b.
-  m_system.set_zero();
+  m_bending_q.assign(m_system.block_count(), 0.0);
   for (const auto& b : m_model.bending)
     for (int k = 0; k < 4; ++k)
       for (int l = 0; l < 4; ++l)
-        m_system.add_diagonal(m_system.slot(b.nodes[k], b.nodes[l]),
-                              b.inverse_area * b.weights[k] * b.weights[l]);
-  m_bending_values =
-      Eigen::Map<const Eigen::VectorXd>(m_system.matrix().valuePtr(), m_system.matrix().nonZeros());
+        m_bending_q[m_system.find(b.nodes[k], b.nodes[l])] +=
+            b.inverse_area * b.weights[k] * b.weights[l];
+  m_last_dv = Eigen::VectorXd::Zero(3 * n);
+  m_last_h = 0.0;
 }
 
 void ClothSimulator::pin(int k) {
@@ -191,64 +202,67 @@ void ClothSimulator::force_jacobians(const Eigen::VectorXd& x, const Eigen::Vect
   dfdv.setFromTriplets(tv.begin(), tv.end());
 }
 
-void ClothSimulator::step(double t, double h) {
+void ClothSimulator::assemble(double h) {
   const int n = node_count();
   const auto& springs = m_model.springs;
   const bool exact = m_solver.exact_jacobian;
-
-  // Forces, df/dx v0 and the system matrix M - h df/dv - h^2 df/dx (Baraff–Witkin eq. (6)).
-  Eigen::VectorXd f(3 * n), Kv = Eigen::VectorXd::Zero(3 * n);
-  m_system.set_zero();
-  for (int k = 0; k < n; ++k) {
-    const double drag = m_model.air_damping * m_model.node_areas[k];
-    f.segment<3>(3 * k) = m_model.masses[k] * m_gravity - drag * node(m_v, k);
-    m_system.add_diagonal(m_diagonal_slots[k], m_model.masses[k] + h * drag);
-  }
-  if (m_external.size() == f.size()) f += m_external;
-
-  std::vector<Eigen::Vector3d> spring_force(springs.size()), spring_kv(springs.size());
-  std::vector<Eigen::Matrix3d> spring_block(springs.size());
-#pragma omp parallel for schedule(static) if (springs.size() > kParallelThreshold)
-  for (int e = 0; e < static_cast<int>(springs.size()); ++e) {
+  const int spring_count = static_cast<int>(springs.size());
+#pragma omp parallel for schedule(static) if (spring_count > kParallelThreshold)
+  for (int e = 0; e < spring_count; ++e) {
     const auto& s = springs[e];
     const auto ev =
         evaluate_spring(s, node(m_x, s.i), node(m_x, s.j), node(m_v, s.i), node(m_v, s.j), exact);
-    spring_force[e] = ev.force_i;
-    spring_kv[e] = ev.dfdx * (node(m_v, s.i) - node(m_v, s.j));
-    spring_block[e] = -(h * h) * ev.dfdx - h * ev.dfdv;
+    m_spring_force[e] = ev.force_i;
+    m_spring_kv[e] = ev.dfdx * (node(m_v, s.i) - node(m_v, s.j));
+    m_spring_block[e] = -(h * h) * ev.dfdx - h * ev.dfdv;
   }
-  for (size_t e = 0; e < springs.size(); ++e) {
-    const auto& s = springs[e];
-    f.segment<3>(3 * s.i) += spring_force[e];
-    f.segment<3>(3 * s.j) -= spring_force[e];
-    Kv.segment<3>(3 * s.i) += spring_kv[e];
-    Kv.segment<3>(3 * s.j) -= spring_kv[e];
-    const auto& slots = m_spring_slots[e];
-    m_system.add(slots[0], spring_block[e]);
-    m_system.add(slots[1], -spring_block[e]);
-    m_system.add(slots[2], -spring_block[e]);
-    m_system.add(slots[3], spring_block[e]);
-  }
-  // Quadratic bending: f = -k_b Q x - beta Q v, constant df/dx = -k_b Q, df/dv = -beta Q.
+
+  // Per node (one block row each, so no two threads write the same entry): mass, gravity,
+  // drag and external force; its springs; and the bending force f = -k_b Q x - beta Q v
+  // with constant df/dx = -k_b Q, df/dv = -beta Q (Bergou et al. 2006).
+  m_force.resize(3 * n);
+  m_kv.resize(3 * n);
+  const bool external = m_external.size() == 3 * n;
   const double kb = m_model.bending_stiffness, beta = m_model.bending_damping;
-  if (!m_model.bending.empty() && (kb != 0.0 || beta != 0.0)) {
-    for (const auto& b : m_model.bending) {
-      Eigen::Vector3d sx = Eigen::Vector3d::Zero(), sv = Eigen::Vector3d::Zero();
-      for (int k = 0; k < 4; ++k) {
-        sx += b.weights[k] * node(m_x, b.nodes[k]);
-        sv += b.weights[k] * node(m_v, b.nodes[k]);
-      }
-      const Eigen::Vector3d g = b.inverse_area * (kb * sx + beta * sv),
-                            gv = b.inverse_area * kb * sv;
-      for (int k = 0; k < 4; ++k) {
-        f.segment<3>(3 * b.nodes[k]) -= b.weights[k] * g;
-        Kv.segment<3>(3 * b.nodes[k]) -= b.weights[k] * gv;
+  const double bending_diagonal = h * h * kb + h * beta;
+#pragma omp parallel for schedule(static) if (n > kParallelThreshold)
+  for (int i = 0; i < n; ++i) {
+    for (int b = m_system.row_begin(i); b < m_system.row_end(i); ++b) m_system.block(b).setZero();
+    const double drag = m_model.air_damping * m_model.node_areas[i];
+    Eigen::Vector3d f = m_model.masses[i] * m_gravity - drag * node(m_v, i);
+    if (external) f += m_external.segment<3>(3 * i);
+    Eigen::Vector3d kv = Eigen::Vector3d::Zero();
+    auto diagonal = m_system.block(m_system.diagonal(i));
+    diagonal.diagonal().setConstant(m_model.masses[i] + h * drag);
+    for (int p = m_spring_end_start[i]; p < m_spring_end_start[i + 1]; ++p) {
+      const auto& end = m_spring_ends[p];
+      f += end.sign * m_spring_force[end.spring];
+      kv += end.sign * m_spring_kv[end.spring];
+      diagonal += m_spring_block[end.spring];
+      m_system.block(end.off_diagonal) -= m_spring_block[end.spring];
+    }
+    if (kb != 0.0 || beta != 0.0) {
+      for (int b = m_system.row_begin(i); b < m_system.row_end(i); ++b) {
+        const double q = m_bending_q[b];
+        if (q == 0.0) continue;
+        const int j = m_system.column(b);
+        f -= q * (kb * node(m_x, j) + beta * node(m_v, j));
+        kv -= q * kb * node(m_v, j);
+        m_system.add_diagonal(b, bending_diagonal * q);
       }
     }
-    Eigen::Map<Eigen::VectorXd>(m_system.matrix().valuePtr(), m_system.matrix().nonZeros()) +=
-        (h * h * kb + h * beta) * m_bending_values;
+    m_force.segment<3>(3 * i) = f;
+    m_kv.segment<3>(3 * i) = kv;
   }
-  Eigen::VectorXd rhs = h * (f + h * Kv);
+}
+
+void ClothSimulator::step(double t, double h) {
+  const int n = node_count();
+  auto clock = std::chrono::steady_clock::now();
+
+  // Baraff–Witkin eq. (6): (M - h df/dv - h^2 df/dx) dv = h (f0 + h df/dx v0).
+  assemble(h);
+  Eigen::VectorXd rhs = h * (m_force + h * m_kv);
 
   // Constrained nodes: dv is known; eliminate it (rows and columns, keeping symmetry).
   Eigen::VectorXd known = Eigen::VectorXd::Zero(3 * n);
@@ -265,46 +279,46 @@ void ClothSimulator::step(double t, double h) {
                h;
     known.segment<3>(3 * k) = target - node(m_v, k);
   }
-  auto& A = m_system.matrix();
   if (any_fixed) {
-    const int* outer = A.outerIndexPtr();
-    const int* inner = A.innerIndexPtr();
-    double* values = A.valuePtr();
 #pragma omp parallel for schedule(static) if (n > kParallelThreshold)
-    for (int r = 0; r < 3 * n; ++r) {
-      if (fixed[r / 3]) {
-        for (int p = outer[r]; p < outer[r + 1]; ++p) values[p] = inner[p] == r ? 1.0 : 0.0;
-        rhs[r] = known[r];
+    for (int i = 0; i < n; ++i) {
+      if (fixed[i]) {
+        for (int b = m_system.row_begin(i); b < m_system.row_end(i); ++b)
+          m_system.block(b).setZero();
+        m_system.add_diagonal(m_system.diagonal(i), 1.0);
+        rhs.segment<3>(3 * i) = known.segment<3>(3 * i);
         continue;
       }
-      for (int p = outer[r]; p < outer[r + 1]; ++p)
-        if (fixed[inner[p] / 3]) {
-          rhs[r] -= values[p] * known[inner[p]];
-          values[p] = 0.0;
-        }
+      for (int b = m_system.row_begin(i); b < m_system.row_end(i); ++b) {
+        const int j = m_system.column(b);
+        if (!fixed[j]) continue;
+        rhs.segment<3>(3 * i) -= m_system.block(b) * known.segment<3>(3 * j);
+        m_system.block(b).setZero();
+      }
     }
   }
+  m_stats.assembly_seconds += seconds_since(clock);
+  clock = std::chrono::steady_clock::now();
 
   Eigen::VectorXd dv;
   if (m_solver.linear_solver == LinearSolverKind::ConjugateGradient) {
-    auto& cg = m_linear->cg;
-    // Eigen runs the CG's matrix-vector products on all OpenMP threads; for small systems
-    // the parallel regions cost more than they save.
-    Eigen::setNbThreads(n > kParallelThreshold ? 0 : 1);
-    cg.setTolerance(m_solver.cg_tolerance);
-    cg.setMaxIterations(m_solver.cg_max_iterations);
-    cg.compute(A);
-    dv = cg.solveWithGuess(rhs, known);
-    m_stats.cg_iterations += static_cast<int>(cg.iterations());
-    m_stats.cg_error = std::max(m_stats.cg_error, cg.error());
+    // Warm start: the last velocity change scaled to this step (dv ~ acceleration * h).
+    dv = m_last_h > 0.0 ? Eigen::VectorXd(m_last_dv * (h / m_last_h)) : Eigen::VectorXd(known);
+    for (int k = 0; k < n; ++k)
+      if (fixed[k]) dv.segment<3>(3 * k) = known.segment<3>(3 * k);
+    m_linear->block_jacobi.compute(m_system);
+    const auto solve = block_pcg(m_system, m_linear->block_jacobi, rhs, dv, m_solver.cg_tolerance,
+                                 m_solver.cg_max_iterations);
+    m_stats.cg_iterations += solve.iterations;
+    m_stats.cg_error = std::max(m_stats.cg_error, solve.relative_residual);
   } else {
     auto& lin = *m_linear;
-    lin.column_major = A;
+    const auto& A = m_system.to_scalar();
     if (!lin.cholmod_analysed) {
-      lin.cholmod.analyzePattern(lin.column_major);
+      lin.cholmod.analyzePattern(A);
       lin.cholmod_analysed = true;
     }
-    lin.cholmod.factorize(lin.column_major);
+    lin.cholmod.factorize(A);
     if (lin.cholmod.info() != Eigen::Success)
       throw NumericalError(
           "mass_spring_cloth: CHOLMOD could not factor the implicit system "
@@ -315,6 +329,10 @@ void ClothSimulator::step(double t, double h) {
     throw NumericalError(
         "mass_spring_cloth: the implicit solve produced non-finite velocities; "
         "lower the stiffness or the step (solver/max_substep)");
+  m_last_dv = dv;
+  m_last_h = h;
+  m_stats.solve_seconds += seconds_since(clock);
+  clock = std::chrono::steady_clock::now();
   Eigen::VectorXd v1 = m_v + dv;
 
   // Collisions: analytic colliders, then other solids' surfaces and self-collision.
@@ -328,10 +346,9 @@ void ClothSimulator::step(double t, double h) {
         triangles.push_back(
             {m_model.triangles(k, 0), m_model.triangles(k, 1), m_model.triangles(k, 2)});
       triangles.insert(triangles.end(), m_obstacle_triangles.begin(), m_obstacle_triangles.end());
-      m_collision_solver.set_topology(triangles);
+      m_collision_solver.set_topology(triangles, n, m_collision.self_collision);
       m_collision_solver.set_parameters(m_collision.thickness, m_collision.friction,
                                         m_collision.ccd_iterations);
-      m_collision_solver.set_self_collision(m_collision.self_collision, n);
       m_collision_topology_dirty = false;
     }
     const size_t total = n + m_obstacle_x.size();
@@ -352,6 +369,8 @@ void ClothSimulator::step(double t, double h) {
     m_stats.collisions.impact_zones += c.impact_zones;
     for (int k = 0; k < n; ++k) v1.segment<3>(3 * k) = v[k];
   }
+
+  m_stats.collision_seconds += seconds_since(clock);
 
   m_x += h * v1;
   for (int k = 0; k < n; ++k) v1.segment<3>(3 * k) -= pop[k];
@@ -428,6 +447,8 @@ void ClothSimulator::save(sdk::StateWriter& out) const {
   out.write<std::int64_t>(node_count());
   out.write_matrix(m_x);
   out.write_matrix(m_v);
+  out.write_matrix(m_last_dv);
+  out.write<double>(m_last_h);
 }
 
 void ClothSimulator::restore(sdk::StateReader& in) {
@@ -437,6 +458,8 @@ void ClothSimulator::restore(sdk::StateReader& in) {
                 " nodes, this cloth has " + std::to_string(node_count()));
   in.read_matrix(m_x);
   in.read_matrix(m_v);
+  in.read_matrix(m_last_dv);
+  m_last_h = in.read<double>();
 }
 
 }  // namespace shellflow::cloth

@@ -5,13 +5,13 @@
 #include <cmath>
 #include <numeric>
 
-#include "mass_spring_cloth/contact_geometry.hpp"
+#include "shellflow/geometry/cubic_roots.hpp"
+#include "shellflow/geometry/swept_point.hpp"
+#include "shellflow/geometry/triangle_distance.hpp"
 
 namespace shellflow::cloth {
 
 namespace {
-
-using Box = Eigen::AlignedBox3d;
 
 // Relative normal speed below which a continuous-collision pair counts as separating,
 // as a fraction of thickness / h: a tiny push keeps the pair from staying coplanar.
@@ -22,7 +22,10 @@ constexpr double kCcdDistanceFraction = 1e-2;
 // Proximity repulsion separates an overlap by this fraction per step (Bridson 2002 §7.2).
 constexpr double kRepulsionFraction = 0.1;
 constexpr int kMaxImpactZoneIterations = 100;
-// Below this many primitives a loop runs serially: a parallel region costs more than it saves.
+// Candidates are found for the motion padded by this many thicknesses, and reused while
+// no node's end position has moved farther than that (per coordinate).
+constexpr double kCandidateMarginThicknesses = 1.0;
+// Below this many pairs a loop runs serially: a parallel region costs more than it saves.
 constexpr long kParallelThreshold = 4096;
 
 int find_root(std::vector<int>& parent, int k) {
@@ -33,18 +36,36 @@ int find_root(std::vector<int>& parent, int k) {
   return k;
 }
 
+// Bernstein sign test: a cubic on [0, 1] lies in the convex hull of its Bernstein
+// coefficients, so if all of them exceed `tolerance` in magnitude with one sign, the
+// cubic has no root and no near-root there.
+bool cubic_stays_away_from_zero(const std::array<double, 4>& c, double tolerance) {
+  const double b0 = c[0], b1 = c[0] + c[1] / 3.0, b2 = c[0] + (2.0 * c[1] + c[2]) / 3.0,
+               b3 = c[0] + c[1] + c[2] + c[3];
+  return (b0 > tolerance && b1 > tolerance && b2 > tolerance && b3 > tolerance) ||
+         (b0 < -tolerance && b1 < -tolerance && b2 < -tolerance && b3 < -tolerance);
+}
+
+// Times in [0, 1] at which x[k] + t d[k], k = 0..3, are coplanar up to `distance` times
+// the scale `area2` (twice the triangle area, or |e1 x e2|): the cubic
+// det[x1 - x0, x2 - x0, x3 - x0](t) through the framework's coplanarity_cubic (in the
+// frame moving with x0) and cubic_near_roots.
+geometry::NearRoots coplanarity_times(const std::array<Eigen::Vector3d, 4>& x,
+                                      const std::array<Eigen::Vector3d, 4>& d, double tolerance) {
+  const geometry::TriangleCorners start{x[1], x[2], x[3]};
+  const geometry::TriangleCorners end{x[1] + d[1] - d[0], x[2] + d[2] - d[0], x[3] + d[3] - d[0]};
+  const auto cubic = geometry::coplanarity_cubic(x[0], start, end);
+  if (cubic_stays_away_from_zero(cubic, tolerance)) return {};
+  return geometry::cubic_near_roots(cubic, tolerance);
+}
+
 }  // namespace
 
-void CollisionSolver::set_topology(const std::vector<std::array<int, 3>>& triangles) {
+void CollisionSolver::set_topology(const std::vector<std::array<int, 3>>& triangles,
+                                   int cloth_nodes, bool self_collision) {
   m_triangles = triangles;
-  m_edges.clear();
-  for (const auto& t : triangles)
-    for (int k = 0; k < 3; ++k) {
-      const int a = t[k], b = t[(k + 1) % 3];
-      m_edges.push_back({std::min(a, b), std::max(a, b)});
-    }
-  std::sort(m_edges.begin(), m_edges.end());
-  m_edges.erase(std::unique(m_edges.begin(), m_edges.end()), m_edges.end());
+  m_broad_phase.set_topology(triangles, cloth_nodes, self_collision);
+  m_candidates_valid = false;
 }
 
 void CollisionSolver::set_parameters(double thickness, double friction, int ccd_passes) {
@@ -53,201 +74,181 @@ void CollisionSolver::set_parameters(double thickness, double friction, int ccd_
   m_ccd_passes = ccd_passes;
 }
 
-void CollisionSolver::find_candidates(const Vectors& a, const Vectors& b, double pad,
-                                      Candidates& out) const {
-  out.point_triangle.clear();
-  out.edge_edge.clear();
-  const int node_count = static_cast<int>(a.size());
-  const auto node_box = [&](int k) {
-    Box box(a[k]);
-    box.extend(b[k]);
-    return box;
-  };
-
-  std::vector<Box> triangle_boxes(m_triangles.size());
-#pragma omp parallel for schedule(static) if (m_triangles.size() > kParallelThreshold)
-  for (int t = 0; t < static_cast<int>(m_triangles.size()); ++t) {
-    Box box = node_box(m_triangles[t][0]);
-    box.extend(node_box(m_triangles[t][1]));
-    box.extend(node_box(m_triangles[t][2]));
-    triangle_boxes[t] = Box(box.min().array() - pad, box.max().array() + pad);
+void CollisionSolver::update_candidates(const Vectors& x0, const Vectors& v, double h) {
+  const int n = static_cast<int>(x0.size());
+  const double margin = kCandidateMarginThicknesses * m_thickness;
+  if (m_candidates_valid && static_cast<int>(m_candidate_motion.size()) == n) {
+    double stray = 0.0;
+#pragma omp parallel for schedule(static) reduction(max : stray) if (n > kParallelThreshold)
+    for (int k = 0; k < n; ++k)
+      stray = std::max(stray, (h * v[k] - m_candidate_motion[k]).cwiseAbs().maxCoeff());
+    if (stray <= margin) return;
   }
-  std::vector<Box> edge_boxes(m_edges.size());
-#pragma omp parallel for schedule(static) if (m_edges.size() > kParallelThreshold)
-  for (int e = 0; e < static_cast<int>(m_edges.size()); ++e) {
-    Box box = node_box(m_edges[e][0]);
-    box.extend(node_box(m_edges[e][1]));
-    edge_boxes[e] = Box(box.min().array() - pad, box.max().array() + pad);
+  m_candidate_motion.resize(n);
+  Vectors x1(n);
+  for (int k = 0; k < n; ++k) {
+    m_candidate_motion[k] = h * v[k];
+    x1[k] = x0[k] + m_candidate_motion[k];
   }
-
-  SpatialHash triangle_hash, edge_hash;
-  triangle_hash.build(triangle_boxes, m_cell_size);
-  edge_hash.build(edge_boxes, m_cell_size);
-
-#pragma omp parallel if (m_edges.size() > kParallelThreshold)
-  {
-    std::vector<int> found;
-    std::vector<std::array<int, 2>> pt, ee;
-#pragma omp for schedule(dynamic, 256) nowait
-    for (int k = 0; k < node_count; ++k) {
-      triangle_hash.query(node_box(k), found);
-      for (int t : found) {
-        const auto& tri = m_triangles[t];
-        if (tri[0] == k || tri[1] == k || tri[2] == k) continue;
-        if (!m_self && k < m_cloth_nodes && tri[0] < m_cloth_nodes) continue;
-        pt.push_back({k, t});
-      }
-    }
-#pragma omp for schedule(dynamic, 256) nowait
-    for (int e = 0; e < static_cast<int>(m_edges.size()); ++e) {
-      edge_hash.query(edge_boxes[e], found);
-      const auto& ea = m_edges[e];
-      for (int f : found) {
-        if (f <= e) continue;
-        const auto& eb = m_edges[f];
-        if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
-        if (!m_self && ea[0] < m_cloth_nodes && eb[0] < m_cloth_nodes) continue;
-        ee.push_back({e, f});
-      }
-    }
-#pragma omp critical
-    {
-      out.point_triangle.insert(out.point_triangle.end(), pt.begin(), pt.end());
-      out.edge_edge.insert(out.edge_edge.end(), ee.begin(), ee.end());
-    }
-  }
-  // Thread order must not change the result: contacts are applied in pair order.
-  std::sort(out.point_triangle.begin(), out.point_triangle.end());
-  std::sort(out.edge_edge.begin(), out.edge_edge.end());
+  // Boxes inflated by (thickness + 2 margin) / 2 each: pairs within the thickness stay
+  // candidates while each node stays within the margin of its end position.
+  m_broad_phase.find(x0, x1, m_thickness + 2.0 * margin, m_candidates);
+  m_candidates_valid = true;
 }
 
 void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
                                          const std::vector<double>& inverse_mass, double h,
-                                         const Candidates& pairs, std::vector<Contact>& out) const {
-  out.clear();
+                                         std::vector<Contact>& out) const {
   const double thickness = m_thickness;
-  for (const auto& [k, t] : pairs.point_triangle) {
-    const auto& tri = m_triangles[t];
-    if (inverse_mass[k] == 0.0 && inverse_mass[tri[0]] == 0.0 && inverse_mass[tri[1]] == 0.0 &&
-        inverse_mass[tri[2]] == 0.0)
-      continue;
-    const Eigen::Vector3d w = closest_point_triangle(x0[k], x0[tri[0]], x0[tri[1]], x0[tri[2]]);
-    const Eigen::Vector3d q = w[0] * x0[tri[0]] + w[1] * x0[tri[1]] + w[2] * x0[tri[2]];
-    const Eigen::Vector3d d = x0[k] - q;
-    const double dist = d.norm();
-    if (dist >= thickness) continue;
-    Eigen::Vector3d n;
-    if (dist > 1e-9 * thickness) {
-      n = d / dist;
-    } else {  // on the triangle: push against the approach direction
-      n = (x0[tri[1]] - x0[tri[0]]).cross(x0[tri[2]] - x0[tri[0]]).normalized();
-      const Eigen::Vector3d vr = v[k] - (w[0] * v[tri[0]] + w[1] * v[tri[1]] + w[2] * v[tri[2]]);
-      if (vr.dot(n) > 0.0) n = -n;
+  const auto& edges = m_broad_phase.edges();
+  const auto& pt_pairs = m_candidates.point_triangle;
+  const auto& ee_pairs = m_candidates.edge_edge;
+  std::vector<Keyed> keyed;
+#pragma omp parallel if (pt_pairs.size() + ee_pairs.size() > kParallelThreshold)
+  {
+    std::vector<Keyed> local;
+#pragma omp for schedule(dynamic, 1024) nowait
+    for (long p = 0; p < static_cast<long>(pt_pairs.size()); ++p) {
+      const auto [k, t] = pt_pairs[p];
+      const auto& tri = m_triangles[t];
+      if (inverse_mass[k] == 0.0 && inverse_mass[tri[0]] == 0.0 && inverse_mass[tri[1]] == 0.0 &&
+          inverse_mass[tri[2]] == 0.0)
+        continue;
+      const geometry::TriangleCorners corners{x0[tri[0]], x0[tri[1]], x0[tri[2]]};
+      const auto closest = geometry::closest_point_on_triangle(x0[k], corners);
+      const Eigen::Vector3d d = x0[k] - closest.point;
+      const double dist = d.norm();
+      if (dist >= thickness) continue;
+      const Eigen::Vector3d& w = closest.barycentric;
+      Eigen::Vector3d n;
+      if (dist > 1e-9 * thickness) {
+        n = d / dist;
+      } else {  // on the triangle: push against the approach direction
+        n = (corners[1] - corners[0]).cross(corners[2] - corners[0]).normalized();
+        const Eigen::Vector3d vr = v[k] - (w[0] * v[tri[0]] + w[1] * v[tri[1]] + w[2] * v[tri[2]]);
+        if (vr.dot(n) > 0.0) n = -n;
+      }
+      local.push_back({{0, k, t},
+                       Contact{{k, tri[0], tri[1], tri[2]},
+                               {1.0, -w[0], -w[1], -w[2]},
+                               n,
+                               kRepulsionFraction * (thickness - dist) / h}});
     }
-    out.push_back({{k, tri[0], tri[1], tri[2]},
-                   {1.0, -w[0], -w[1], -w[2]},
-                   n,
-                   kRepulsionFraction * (thickness - dist) / h});
+#pragma omp for schedule(dynamic, 1024) nowait
+    for (long p = 0; p < static_cast<long>(ee_pairs.size()); ++p) {
+      const auto [e, f] = ee_pairs[p];
+      const auto& ea = edges[e];
+      const auto& eb = edges[f];
+      if (inverse_mass[ea[0]] == 0.0 && inverse_mass[ea[1]] == 0.0 &&
+          inverse_mass[eb[0]] == 0.0 && inverse_mass[eb[1]] == 0.0)
+        continue;
+      const auto closest = geometry::closest_segment_segment(x0[ea[0]], x0[ea[1]], x0[eb[0]], x0[eb[1]]);
+      const double s = closest.s, u = closest.t;
+      // Point–triangle pairs cover the end points; edge pairs only count in their interiors.
+      if (s <= 0.0 || s >= 1.0 || u <= 0.0 || u >= 1.0) continue;
+      const double dist = std::sqrt(closest.distance2);
+      if (dist >= thickness || dist <= 1e-9 * thickness) continue;
+      const Eigen::Vector3d d =
+          ((1 - s) * x0[ea[0]] + s * x0[ea[1]]) - ((1 - u) * x0[eb[0]] + u * x0[eb[1]]);
+      local.push_back({{1, e, f},
+                       Contact{{ea[0], ea[1], eb[0], eb[1]},
+                               {1 - s, s, -(1 - u), -u},
+                               d / d.norm(),
+                               kRepulsionFraction * (thickness - dist) / h}});
+    }
+#pragma omp critical
+    keyed.insert(keyed.end(), local.begin(), local.end());
   }
-  for (const auto& [e, f] : pairs.edge_edge) {
-    const auto& ea = m_edges[e];
-    const auto& eb = m_edges[f];
-    if (inverse_mass[ea[0]] == 0.0 && inverse_mass[ea[1]] == 0.0 && inverse_mass[eb[0]] == 0.0 &&
-        inverse_mass[eb[1]] == 0.0)
-      continue;
-    const Eigen::Vector2d st = closest_points_segments(x0[ea[0]], x0[ea[1]], x0[eb[0]], x0[eb[1]]);
-    const double s = st[0], u = st[1];
-    const Eigen::Vector3d d =
-        ((1 - s) * x0[ea[0]] + s * x0[ea[1]]) - ((1 - u) * x0[eb[0]] + u * x0[eb[1]]);
-    const double dist = d.norm();
-    if (dist >= thickness || dist <= 1e-9 * thickness) continue;
-    // Point–triangle pairs cover the end points; edge pairs only count in their interiors.
-    if (s <= 0.0 || s >= 1.0 || u <= 0.0 || u >= 1.0) continue;
-    out.push_back({{ea[0], ea[1], eb[0], eb[1]},
-                   {1 - s, s, -(1 - u), -u},
-                   d / dist,
-                   kRepulsionFraction * (thickness - dist) / h});
-  }
+  // Thread order must not change the result: contacts are applied in pair order.
+  std::sort(keyed.begin(), keyed.end(),
+            [](const Keyed& a, const Keyed& b) { return a.first < b.first; });
+  out.clear();
+  for (auto& item : keyed) out.push_back(item.second);
 }
 
 void CollisionSolver::ccd_contacts(const Vectors& x0, const Vectors& v,
                                    const std::vector<double>& inverse_mass, double h,
-                                   const Candidates& pairs, const std::vector<char>* active,
+                                   const std::vector<char>* active,
                                    std::vector<Contact>& out) const {
-  out.clear();
-  std::vector<std::pair<long, Contact>> keyed;  // (pair order, contact)
+  const auto& edges = m_broad_phase.edges();
+  const auto& pt_pairs = m_candidates.point_triangle;
+  const auto& ee_pairs = m_candidates.edge_edge;
+  std::vector<Keyed> keyed;
   const double eps = kCcdDistanceFraction * m_thickness;
   const double target = kCcdSeparationFraction * m_thickness / h;
-  const auto is_active = [&](const std::array<int, 4>& nodes) {
-    if (!active) return true;
-    for (int k : nodes)
-      if ((*active)[k]) return true;
-    return false;
+  const auto skip = [&](const std::array<int, 4>& nodes) {
+    bool movable = false, is_active = active == nullptr;
+    for (int k : nodes) {
+      movable = movable || inverse_mass[k] != 0.0;
+      is_active = is_active || (*active)[k];
+    }
+    return !movable || !is_active;
   };
-  const auto all_fixed = [&](const std::array<int, 4>& nodes) {
-    for (int k : nodes)
-      if (inverse_mass[k] != 0.0) return false;
-    return true;
+  const auto motion = [&](const std::array<int, 4>& nodes, std::array<Eigen::Vector3d, 4>& x,
+                          std::array<Eigen::Vector3d, 4>& d) {
+    for (int i = 0; i < 4; ++i) {
+      x[i] = x0[nodes[i]];
+      d[i] = h * v[nodes[i]];
+    }
   };
 
-#pragma omp parallel if (pairs.point_triangle.size() + pairs.edge_edge.size() > kParallelThreshold)
+#pragma omp parallel if (pt_pairs.size() + ee_pairs.size() > kParallelThreshold)
   {
-    std::vector<std::pair<long, Contact>> local;
+    std::vector<Keyed> local;
 #pragma omp for schedule(dynamic, 1024) nowait
-    for (long p = 0; p < static_cast<long>(pairs.point_triangle.size()); ++p) {
-      const auto [k, t] = pairs.point_triangle[p];
+    for (long p = 0; p < static_cast<long>(pt_pairs.size()); ++p) {
+      const auto [k, t] = pt_pairs[p];
       const auto& tri = m_triangles[t];
       const std::array<int, 4> nodes{k, tri[0], tri[1], tri[2]};
-      if (all_fixed(nodes) || !is_active(nodes)) continue;
+      if (skip(nodes)) continue;
       std::array<Eigen::Vector3d, 4> x, d;
-      for (int i = 0; i < 4; ++i) {
-        x[i] = x0[nodes[i]];
-        d[i] = h * v[nodes[i]];
-      }
-      std::array<double, 3> times;
-      const int count = coplanarity_times(x, d, times);
-      for (int r = 0; r < count; ++r) {
+      motion(nodes, x, d);
+      // |det| = 2 area * distance from the plane: the tolerance is eps in distance.
+      const double area2 = std::max((x[2] - x[1]).cross(x[3] - x[1]).norm(),
+                                    (x[2] + d[2] - x[1] - d[1]).cross(x[3] + d[3] - x[1] - d[1]).norm());
+      const auto roots = coplanarity_times(x, d, eps * area2);
+      for (int r = 0; r < roots.count; ++r) {
         std::array<Eigen::Vector3d, 4> y;
-        for (int i = 0; i < 4; ++i) y[i] = x[i] + times[r] * d[i];
-        const Eigen::Vector3d w = closest_point_triangle(y[0], y[1], y[2], y[3]);
-        const Eigen::Vector3d q = w[0] * y[1] + w[1] * y[2] + w[2] * y[3];
-        if ((y[0] - q).norm() >= eps) continue;
+        for (int i = 0; i < 4; ++i) y[i] = x[i] + roots.times[r] * d[i];
+        const auto closest = geometry::closest_point_on_triangle(y[0], {y[1], y[2], y[3]});
+        if ((y[0] - closest.point).norm() >= eps) continue;
         Eigen::Vector3d n = (y[2] - y[1]).cross(y[3] - y[1]);
         if (n.norm() == 0.0) continue;
         n.normalize();
+        const Eigen::Vector3d& w = closest.barycentric;
         const double side = (x[0] - (w[0] * x[1] + w[1] * x[2] + w[2] * x[3])).dot(n);
         if (side < 0.0) n = -n;
-        local.push_back({p, Contact{nodes, {1.0, -w[0], -w[1], -w[2]}, n, target}});
+        local.push_back({{0, k, t}, Contact{nodes, {1.0, -w[0], -w[1], -w[2]}, n, target}});
         break;
       }
     }
-    const long offset = static_cast<long>(pairs.point_triangle.size());
 #pragma omp for schedule(dynamic, 1024) nowait
-    for (long p = 0; p < static_cast<long>(pairs.edge_edge.size()); ++p) {
-      const auto [e, f] = pairs.edge_edge[p];
-      const std::array<int, 4> nodes{m_edges[e][0], m_edges[e][1], m_edges[f][0], m_edges[f][1]};
-      if (all_fixed(nodes) || !is_active(nodes)) continue;
+    for (long p = 0; p < static_cast<long>(ee_pairs.size()); ++p) {
+      const auto [e, f] = ee_pairs[p];
+      const std::array<int, 4> nodes{edges[e][0], edges[e][1], edges[f][0], edges[f][1]};
+      if (skip(nodes)) continue;
       std::array<Eigen::Vector3d, 4> x, d;
-      for (int i = 0; i < 4; ++i) {
-        x[i] = x0[nodes[i]];
-        d[i] = h * v[nodes[i]];
-      }
-      std::array<double, 3> times;
-      const int count = coplanarity_times(x, d, times);
-      for (int r = 0; r < count; ++r) {
+      motion(nodes, x, d);
+      // |det| = |e1 x e2| * distance between the lines; the floor keeps near-parallel
+      // edges (whose det is round-off) from reporting every time.
+      const double cross = std::max((x[1] - x[0]).cross(x[3] - x[2]).norm(),
+                                    (x[1] + d[1] - x[0] - d[0]).cross(x[3] + d[3] - x[2] - d[2]).norm());
+      const double lengths = (x[1] - x[0]).norm() * (x[3] - x[2]).norm();
+      const auto roots = coplanarity_times(x, d, eps * std::max(cross, 1e-6 * lengths));
+      for (int r = 0; r < roots.count; ++r) {
         std::array<Eigen::Vector3d, 4> y;
-        for (int i = 0; i < 4; ++i) y[i] = x[i] + times[r] * d[i];
-        const Eigen::Vector2d st = closest_points_segments(y[0], y[1], y[2], y[3]);
-        const double s = st[0], u = st[1];
+        for (int i = 0; i < 4; ++i) y[i] = x[i] + roots.times[r] * d[i];
+        const auto closest = geometry::closest_segment_segment(y[0], y[1], y[2], y[3]);
+        const double s = closest.s, u = closest.t;
         const Eigen::Vector3d pa = (1 - s) * y[0] + s * y[1], pb = (1 - u) * y[2] + u * y[3];
-        if ((pa - pb).norm() >= eps) continue;
+        if (std::sqrt(closest.distance2) >= eps) continue;
         Eigen::Vector3d n = (y[1] - y[0]).cross(y[3] - y[2]);
         if (n.norm() <= 1e-12 * (y[1] - y[0]).norm() * (y[3] - y[2]).norm()) n = pa - pb;
         if (n.norm() == 0.0) continue;
         n.normalize();
         const double side = (((1 - s) * x[0] + s * x[1]) - ((1 - u) * x[2] + u * x[3])).dot(n);
         if (side < 0.0) n = -n;
-        local.push_back({offset + p, Contact{nodes, {1 - s, s, -(1 - u), -u}, n, target}});
+        local.push_back({{1, e, f}, Contact{nodes, {1 - s, s, -(1 - u), -u}, n, target}});
         break;
       }
     }
@@ -256,7 +257,8 @@ void CollisionSolver::ccd_contacts(const Vectors& x0, const Vectors& v,
   }
   // Thread order must not change the result: contacts are applied in pair order.
   std::sort(keyed.begin(), keyed.end(),
-            [](const auto& a, const auto& b) { return a.first < b.first; });
+            [](const Keyed& a, const Keyed& b) { return a.first < b.first; });
+  out.clear();
   for (auto& item : keyed) out.push_back(item.second);
 }
 
@@ -286,28 +288,21 @@ CollisionStatistics CollisionSolver::resolve(const Vectors& x0, Vectors& v,
   CollisionStatistics stats;
   const int n = static_cast<int>(x0.size());
   if (m_triangles.empty()) return stats;
-  double mean_edge = 0.0;
-  for (const auto& e : m_edges) mean_edge += (x0[e[0]] - x0[e[1]]).norm();
-  mean_edge /= static_cast<double>(m_edges.size());
-  m_cell_size = std::max(mean_edge, 2.0 * m_thickness);
+  m_candidates_valid = false;  // a new step: new start positions
 
   // 1. Proximity at the start of the step.
-  Candidates near;
-  find_candidates(x0, x0, m_thickness, near);
+  update_candidates(x0, v, h);
   std::vector<Contact> contacts;
-  proximity_contacts(x0, v, inverse_mass, h, near, contacts);
+  proximity_contacts(x0, v, inverse_mass, h, contacts);
   for (const auto& c : contacts) apply(c, v, inverse_mass, m_friction);
   stats.proximity_contacts = static_cast<int>(contacts.size());
 
   // 2. Continuous collision passes over the swept candidates.
-  Vectors x1(n);
-  for (int k = 0; k < n; ++k) x1[k] = x0[k] + h * v[k];
-  Candidates swept;
-  find_candidates(x0, x1, m_thickness, swept);
   std::vector<char> active(n, 1);
   bool colliding = false;
   for (int pass = 0; pass < m_ccd_passes; ++pass) {
-    ccd_contacts(x0, v, inverse_mass, h, swept, pass == 0 ? nullptr : &active, contacts);
+    update_candidates(x0, v, h);
+    ccd_contacts(x0, v, inverse_mass, h, pass == 0 ? nullptr : &active, contacts);
     stats.ccd_collisions += static_cast<int>(contacts.size());
     colliding = !contacts.empty();
     if (!colliding) break;
@@ -323,9 +318,8 @@ CollisionStatistics CollisionSolver::resolve(const Vectors& x0, Vectors& v,
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
   for (int iteration = 0; iteration < kMaxImpactZoneIterations; ++iteration) {
-    for (int k = 0; k < n; ++k) x1[k] = x0[k] + h * v[k];
-    find_candidates(x0, x1, m_thickness, swept);
-    ccd_contacts(x0, v, inverse_mass, h, swept, nullptr, contacts);
+    update_candidates(x0, v, h);
+    ccd_contacts(x0, v, inverse_mass, h, nullptr, contacts);
     if (contacts.empty()) break;
     stats.ccd_collisions += static_cast<int>(contacts.size());
     for (const auto& c : contacts)

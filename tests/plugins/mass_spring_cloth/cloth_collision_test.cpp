@@ -7,20 +7,29 @@
 #include <cmath>
 
 #include "cloth_test_scenes.hpp"
-#include "mass_spring_cloth/contact_geometry.hpp"
+#include "mass_spring_cloth/collision_solver.hpp"
 
 namespace shellflow::cloth {
 namespace {
 
-TEST(ClothContact, CoplanarityTimesFindACrossing) {
-  // A point falling through the triangle z = 0 from z = 1 to z = -1 crosses at t = 1/2.
-  const std::array<Eigen::Vector3d, 4> x{Eigen::Vector3d(0.2, 0.2, 1.0), Eigen::Vector3d(0, 0, 0),
-                                         Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0)};
-  const std::array<Eigen::Vector3d, 4> d{Eigen::Vector3d(0, 0, -2), Eigen::Vector3d::Zero(),
-                                         Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};
-  std::array<double, 3> times;
-  ASSERT_EQ(coplanarity_times(x, d, times), 1);
-  EXPECT_NEAR(times[0], 0.5, 1e-10);  // bisection to 1e-12 in t
+TEST(ClothContact, ContinuousPassStopsAPointCrossingATriangle) {
+  // A small triangle (nodes 0, 4, 5) moving from z = 1 to z = -1 in one step through the
+  // fixed triangle z = 0 (nodes 1, 2, 3): proximity sees nothing at the start, only the
+  // continuous pass (the coplanarity cubic crosses zero at t = 1/2) can stop it. After
+  // the impulses its nodes end above the fixed triangle, on their starting side.
+  CollisionSolver solver;
+  solver.set_topology({{1, 2, 3}, {0, 4, 5}}, 6, true);
+  solver.set_parameters(0.01, 0.0, 6);
+  const std::vector<Eigen::Vector3d> x0{
+      Eigen::Vector3d(0.2, 0.2, 1.0), Eigen::Vector3d(0, 0, 0),        Eigen::Vector3d(1, 0, 0),
+      Eigen::Vector3d(0, 1, 0),       Eigen::Vector3d(0.3, 0.2, 1.0), Eigen::Vector3d(0.2, 0.3, 1.0)};
+  std::vector<Eigen::Vector3d> v(6, Eigen::Vector3d::Zero());
+  for (int k : {0, 4, 5}) v[k] = Eigen::Vector3d(0, 0, -2);
+  const std::vector<double> inverse_mass{1.0, 0.0, 0.0, 0.0, 1.0, 1.0};
+  const auto stats = solver.resolve(x0, v, inverse_mass, 1.0);
+  EXPECT_GT(stats.ccd_collisions, 0);
+  for (int k : {4, 5}) EXPECT_GT(x0[k].z() + v[k].z(), 0.0) << "node " << k;
+  EXPECT_GT(x0[0].z() + v[0].z(), 0.0);
 }
 
 TEST(ClothContact, DrapeOnSphereDoesNotPenetrate) {

@@ -33,16 +33,24 @@ void BM_ClothStep(benchmark::State& state) {
   double t = 0.0;
   for (int s = 0; s < 5; ++s, t += dt) sim.advance(t, dt);
   long cg = 0, contacts = 0, steps = 0;
+  double assembly = 0.0, solve = 0.0, collision_time = 0.0;
   for (auto _ : state) {
     sim.advance(t, dt);
     t += dt;
     cg += sim.statistics().cg_iterations;
+    assembly += sim.statistics().assembly_seconds;
+    solve += sim.statistics().solve_seconds;
+    collision_time += sim.statistics().collision_seconds;
     contacts +=
         sim.statistics().collisions.proximity_contacts + sim.statistics().collisions.ccd_collisions;
     ++steps;
   }
   state.counters["cg_iterations"] = static_cast<double>(cg) / steps;
   state.counters["contacts"] = static_cast<double>(contacts) / steps;
+  // Where the time goes, per step [ms].
+  state.counters["assembly_ms"] = 1e3 * assembly / steps;
+  state.counters["solve_ms"] = 1e3 * solve / steps;
+  state.counters["collision_ms"] = 1e3 * collision_time / steps;
   state.counters["triangles"] = static_cast<double>(mesh.triangles.rows());
 }
 

@@ -1,46 +1,64 @@
 #pragma once
-// A symmetric 3x3-block sparse matrix over the cloth nodes with a fixed pattern, stored
-// as an Eigen row-major CSR matrix so that the CG's matrix-vector product runs in
-// parallel. Each block (i, j) is reached through a Slot found once: entry (3i+a, 3j+b)
-// lives at values[slot.position + a * slot.row_stride + b].
+// A symmetric 3x3-block sparse matrix over the cloth nodes with a fixed pattern, in block
+// compressed-row form (BSR): block row i holds the blocks (i, j) of its neighbours j in
+// increasing order, each 3x3 block row-major in one flat array. The pattern is built once
+// (springs and bending stencils do not change); every step only refills the values in
+// place. Against a scalar CSR matrix of the same entries this stores one column index per
+// 9 values, so the CG's matrix-vector product reads about 40% less memory, and a block
+// row is one node, so the row-parallel product and the assembly's per-node gathers need no
+// atomics.
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <utility>
 #include <vector>
 
+
 namespace shellflow::cloth {
 
 class BlockSparseMatrix {
  public:
-  using Matrix = Eigen::SparseMatrix<double, Eigen::RowMajor, int>;
-  struct Slot {
-    int position = 0;
-    int row_stride = 0;
-  };
+  using Block = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
+  using ConstBlock = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
 
   /// Pattern: every diagonal block plus both (i,j) and (j,i) for each listed pair.
   void build(int node_count, const std::vector<std::pair<int, int>>& pairs);
-  Slot slot(int i, int j) const;
+  /// Index of block (i, j) in the pattern (asserts that it is there).
+  int find(int i, int j) const;
+  int diagonal(int i) const { return m_diagonal[i]; }
 
-  void set_zero() { m_matrix.coeffs().setZero(); }
-  void add(Slot s, const Eigen::Matrix3d& block) {
-    double* v = m_matrix.valuePtr() + s.position;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b) v[a * s.row_stride + b] += block(a, b);
-  }
-  void add_diagonal(Slot s, double value) {
-    double* v = m_matrix.valuePtr() + s.position;
-    for (int a = 0; a < 3; ++a) v[a * s.row_stride + a] += value;
+  int node_count() const { return static_cast<int>(m_row_start.size()) - 1; }
+  int block_count() const { return static_cast<int>(m_columns.size()); }
+  int row_begin(int i) const { return m_row_start[i]; }
+  int row_end(int i) const { return m_row_start[i + 1]; }
+  int column(int b) const { return m_columns[b]; }
+
+  void set_zero() { std::fill(m_values.begin(), m_values.end(), 0.0); }
+  Block block(int b) { return Block(m_values.data() + 9 * b); }
+  ConstBlock block(int b) const { return ConstBlock(m_values.data() + 9 * b); }
+  void add_diagonal(int b, double value) {
+    double* v = m_values.data() + 9 * b;
+    v[0] += value, v[4] += value, v[8] += value;
   }
 
-  Matrix& matrix() { return m_matrix; }
-  const Matrix& matrix() const { return m_matrix; }
-  int node_count() const { return m_node_count; }
+  // 3 unknowns per node; both products are row-parallel with OpenMP.
+  int size() const { return 3 * node_count(); }
+  /// y = A x; returns x . y.
+  double multiply_and_dot(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  /// r = b - A x; returns |r|^2.
+  double residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const;
+
+  /// The same matrix as a scalar column-major sparse matrix (for CHOLMOD). The scalar
+  /// pattern is made on the first call; later calls only copy the values.
+  const Eigen::SparseMatrix<double>& to_scalar();
 
  private:
-  Matrix m_matrix;
-  int m_node_count = 0;
+  std::vector<int> m_row_start{0};
+  std::vector<int> m_columns;
+  std::vector<int> m_diagonal;
+  std::vector<double> m_values;  ///< 9 per block, row-major
+  Eigen::SparseMatrix<double> m_scalar;
+  std::vector<int> m_scalar_source;  ///< per scalar nonzero, its index in m_values
 };
 
 }  // namespace shellflow::cloth

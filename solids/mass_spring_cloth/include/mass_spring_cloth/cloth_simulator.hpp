@@ -2,9 +2,11 @@
 // The cloth solver proper: implicit backward Euler on a mass-spring cloth (Baraff and
 // Witkin, "Large Steps in Cloth Simulation", SIGGRAPH 1998, §3 eq. (6)):
 //   (M - h df/dv - h^2 df/dx) dv = h (f0 + h df/dx v0),  x1 = x0 + h (v0 + dv),
-// one linearised step per substep, solved by Jacobi-preconditioned CG (default) or a
-// CHOLMOD supernodal Cholesky. Pinned and path-driven nodes are eliminated from the system
-// (their dv is known). After the solve, analytic colliders, other solids' surfaces and the
+// one linearised step per substep, solved by block-Jacobi preconditioned CG (default) or a
+// CHOLMOD supernodal Cholesky. The system lives in a fixed block pattern refilled in place
+// each step (block_sparse_matrix.hpp); CG starts from the last step's velocity change,
+// scaled to the new step, which for smooth motion is most of the answer. Pinned and
+// path-driven nodes are eliminated from the system (their dv is known). After the solve, analytic colliders, other solids' surfaces and the
 // cloth itself are handled by velocity impulses (collision_solver.hpp).
 
 #include <Eigen/Core>
@@ -29,6 +31,10 @@ struct StepStatistics {
   double cg_error = 0.0;           ///< largest relative residual of those solves
   int collider_contacts = 0;       ///< node–analytic-collider contacts (summed over substeps)
   CollisionStatistics collisions;  ///< summed over substeps
+  // Wall-clock time of the parts of the substeps [s], for benchmarks and profiling.
+  double assembly_seconds = 0.0;   ///< forces, Jacobians, system matrix, constraints
+  double solve_seconds = 0.0;      ///< the linear solve (preconditioner included)
+  double collision_seconds = 0.0;  ///< colliders, other solids and self-collision
 };
 
 class ClothSimulator {
@@ -83,6 +89,8 @@ class ClothSimulator {
   static constexpr int kPinned = -1;
 
   void build_pattern();
+  /// Forces, df/dx v and the system M - h df/dv - h^2 df/dx into m_system, m_force, m_kv.
+  void assemble(double h);
   void resolve_collider_contacts(const Eigen::VectorXd& x0, Eigen::VectorXd& v, double h,
                                  std::vector<Eigen::Vector3d>& pop);
 
@@ -106,9 +114,23 @@ class ClothSimulator {
   bool m_collision_topology_dirty = true;
 
   BlockSparseMatrix m_system;
-  std::vector<BlockSparseMatrix::Slot> m_diagonal_slots;
-  std::vector<std::array<BlockSparseMatrix::Slot, 4>> m_spring_slots;  ///< ii, ij, ji, jj
-  Eigen::VectorXd m_bending_values;  ///< Q of the bending energy in the system's pattern
+  /// Per node, the springs at it: spring index, +1 if the node is the spring's i, -1 if
+  /// its j, and the block (node, other end) in the node's block row. CSR by node.
+  struct SpringEnd {
+    int spring = 0;
+    double sign = 1.0;
+    int off_diagonal = 0;
+  };
+  std::vector<int> m_spring_end_start;
+  std::vector<SpringEnd> m_spring_ends;
+  std::vector<double> m_bending_q;  ///< per block, Q_ij of the bending energy (times I)
+  // Per-step work arrays (kept to avoid allocation): per spring its force on node i,
+  // df_i/dx_i (v_i - v_j) and -h^2 df_i/dx_i - h df_i/dv_i.
+  std::vector<Eigen::Vector3d> m_spring_force, m_spring_kv;
+  std::vector<Eigen::Matrix3d> m_spring_block;
+  Eigen::VectorXd m_force, m_kv;
+  Eigen::VectorXd m_last_dv;  ///< velocity change of the last substep (CG's warm start)
+  double m_last_h = 0.0;      ///< its step; 0 before the first substep
 
   struct LinearSolvers;
   std::unique_ptr<LinearSolvers> m_linear;

@@ -6,19 +6,24 @@
 //     the start of the step get an inelastic impulse plus a repulsion that separates them
 //     by a tenth of the overlap per step, with Coulomb friction (§7.3);
 //  2. continuous collision (§7.4): moving point–triangle and edge–edge pairs are tested
-//     for coplanarity during the step (a cubic); colliding pairs get inelastic impulses,
-//     repeated for a few passes;
+//     for coplanarity during the step (a cubic, solved by the framework's
+//     geometry::cubic_near_roots after a Bernstein sign test that rejects most pairs);
+//     colliding pairs get inelastic impulses, repeated for a few passes;
 //  3. rigid impact zones (§7.4, simplified to translations): nodes of pairs still colliding
 //     are merged into zones that move with their mass-weighted mean velocity, until no
 //     pair collides. A rigid translation cannot make a zone's own elements collide.
 // Nodes of other solids' surfaces enter as extra nodes with zero inverse mass, so the
-// same passes keep the cloth on its side of those surfaces.
+// same passes keep the cloth on its side of those surfaces. Candidate pairs come from
+// ContactBroadPhase (framework box hierarchy, refit per step) for the step's motion with a
+// margin, and are reused by the later passes while no node strays beyond that margin.
+// Contacts are applied in the order of their pair, so the result does not depend on the
+// thread count or on the hierarchy's history (save/restore stays bit-for-bit).
 
 #include <Eigen/Core>
 #include <array>
 #include <vector>
 
-#include "mass_spring_cloth/spatial_hash.hpp"
+#include "mass_spring_cloth/contact_broad_phase.hpp"
 
 namespace shellflow::cloth {
 
@@ -32,14 +37,11 @@ class CollisionSolver {
  public:
   using Vectors = std::vector<Eigen::Vector3d>;
 
-  /// Topology: triangles over nodes [0, n); edges are derived from the triangles.
-  void set_topology(const std::vector<std::array<int, 3>>& triangles);
+  /// Topology: triangles over nodes [0, n); edges are derived from the triangles. Without
+  /// self-collision only pairs touching a node >= `cloth_nodes` (an obstacle) count.
+  void set_topology(const std::vector<std::array<int, 3>>& triangles, int cloth_nodes,
+                    bool self_collision);
   void set_parameters(double thickness, double friction, int ccd_passes);
-  /// Without self-collision only pairs touching a node >= `cloth_nodes` (an obstacle) count.
-  void set_self_collision(bool enabled, int cloth_nodes) {
-    m_self = enabled;
-    m_cloth_nodes = cloth_nodes;
-  }
 
   /// Changes `v` so that moving from `x0` by h * v neither leaves pairs closer than the
   /// thickness approaching nor lets any point pass through any triangle or edge through
@@ -54,29 +56,28 @@ class CollisionSolver {
     Eigen::Vector3d normal;
     double target_speed;  ///< wanted relative normal velocity [m/s]
   };
-  struct Candidates {
-    std::vector<std::array<int, 2>> point_triangle;  ///< (node, triangle)
-    std::vector<std::array<int, 2>> edge_edge;       ///< (edge, edge), first < second
-  };
+  /// A contact with its pair: (0, node, triangle) or (1, edge, edge); the sort key.
+  using Keyed = std::pair<std::array<int, 3>, Contact>;
 
-  void find_candidates(const Vectors& a, const Vectors& b, double pad, Candidates& out) const;
+  /// Candidates for moving from x0 by h * v, refreshed only when some node has moved
+  /// farther than the margin from the motion they were found for.
+  void update_candidates(const Vectors& x0, const Vectors& v, double h);
   void proximity_contacts(const Vectors& x0, const Vectors& v,
                           const std::vector<double>& inverse_mass, double h,
-                          const Candidates& pairs, std::vector<Contact>& out) const;
+                          std::vector<Contact>& out) const;
   void ccd_contacts(const Vectors& x0, const Vectors& v, const std::vector<double>& inverse_mass,
-                    double h, const Candidates& pairs, const std::vector<char>* active,
-                    std::vector<Contact>& out) const;
+                    double h, const std::vector<char>* active, std::vector<Contact>& out) const;
   void apply(const Contact& c, Vectors& v, const std::vector<double>& inverse_mass,
              double friction) const;
 
   std::vector<std::array<int, 3>> m_triangles;
-  std::vector<std::array<int, 2>> m_edges;
   double m_thickness = 1e-3;
   double m_friction = 0.0;
   int m_ccd_passes = 6;
-  double m_cell_size = 1e-2;
-  bool m_self = true;
-  int m_cloth_nodes = 0;
+  ContactBroadPhase m_broad_phase;
+  ContactCandidates m_candidates;
+  Vectors m_candidate_motion;  ///< h * v the candidates were found for
+  bool m_candidates_valid = false;
 };
 
 }  // namespace shellflow::cloth

@@ -1,0 +1,144 @@
+#include "mass_spring_cloth/contact_broad_phase.hpp"
+
+#include <algorithm>
+
+namespace shellflow::cloth {
+
+namespace {
+
+// Rebuild the hierarchy when its refit cost grows past this factor of a fresh build's
+// (the framework's TriangleBvh default, measured in bench_geometry).
+constexpr double kMaxDegradation = 2.0;
+// Below this many triangles the loops run serially: a parallel region costs more.
+constexpr int kParallelThreshold = 2048;
+
+}  // namespace
+
+void ContactBroadPhase::set_topology(const std::vector<std::array<int, 3>>& triangles,
+                                     int cloth_nodes, bool self_collision) {
+  m_triangles = triangles;
+  m_cloth_nodes = cloth_nodes;
+  m_self = self_collision;
+  const int triangle_count = static_cast<int>(triangles.size());
+  int node_count = 0;
+  for (const auto& t : triangles) node_count = std::max({node_count, t[0] + 1, t[1] + 1, t[2] + 1});
+
+  // Edges with the first triangle that has them (their owner).
+  std::vector<std::array<int, 3>> edge_owner;  // (low node, high node, triangle)
+  for (int t = 0; t < triangle_count; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
+      edge_owner.push_back({std::min(a, b), std::max(a, b), t});
+    }
+  std::sort(edge_owner.begin(), edge_owner.end());
+  m_edges.clear();
+  std::vector<std::vector<int>> owned_edges(triangle_count), owned_nodes(triangle_count);
+  for (size_t e = 0; e < edge_owner.size(); ++e) {
+    if (e > 0 && edge_owner[e][0] == edge_owner[e - 1][0] &&
+        edge_owner[e][1] == edge_owner[e - 1][1])
+      continue;
+    owned_edges[edge_owner[e][2]].push_back(static_cast<int>(m_edges.size()));
+    m_edges.push_back({edge_owner[e][0], edge_owner[e][1]});
+  }
+  std::vector<int> node_owner(node_count, -1);
+  for (int t = 0; t < triangle_count; ++t)
+    for (int k : triangles[t])
+      if (node_owner[k] < 0) {
+        node_owner[k] = t;
+        owned_nodes[t].push_back(k);
+      }
+  m_node_start.assign(1, 0);
+  m_edge_start.assign(1, 0);
+  m_owned_nodes.clear();
+  m_owned_edges.clear();
+  m_obstacle_triangle.assign(triangle_count, 0);
+  for (int t = 0; t < triangle_count; ++t) {
+    m_owned_nodes.insert(m_owned_nodes.end(), owned_nodes[t].begin(), owned_nodes[t].end());
+    m_owned_edges.insert(m_owned_edges.end(), owned_edges[t].begin(), owned_edges[t].end());
+    m_node_start.push_back(static_cast<int>(m_owned_nodes.size()));
+    m_edge_start.push_back(static_cast<int>(m_owned_edges.size()));
+    const auto& tri = triangles[t];
+    m_obstacle_triangle[t] =
+        tri[0] >= cloth_nodes && tri[1] >= cloth_nodes && tri[2] >= cloth_nodes;
+  }
+  m_bvh = geometry::Bvh();
+}
+
+void ContactBroadPhase::find(const Vectors& a, const Vectors& b, double distance,
+                             ContactCandidates& out) {
+  out.point_triangle.clear();
+  out.edge_edge.clear();
+  const int triangle_count = static_cast<int>(m_triangles.size());
+  if (triangle_count == 0) return;
+  const int node_count = static_cast<int>(a.size());
+  const int edge_count = static_cast<int>(m_edges.size());
+  const double pad = 0.5 * distance;
+  m_node_boxes.resize(node_count);
+  m_edge_boxes.resize(edge_count);
+  m_triangle_boxes.resize(triangle_count);
+#pragma omp parallel if (triangle_count > kParallelThreshold)
+  {
+#pragma omp for schedule(static)
+    for (int k = 0; k < node_count; ++k)
+      m_node_boxes[k] = geometry::Aabb(a[k].cwiseMin(b[k]).array() - pad,
+                                       a[k].cwiseMax(b[k]).array() + pad);
+#pragma omp for schedule(static) nowait
+    for (int e = 0; e < edge_count; ++e) {
+      m_edge_boxes[e] = m_node_boxes[m_edges[e][0]];
+      m_edge_boxes[e].extend(m_node_boxes[m_edges[e][1]]);
+    }
+#pragma omp for schedule(static)
+    for (int t = 0; t < triangle_count; ++t) {
+      const auto& tri = m_triangles[t];
+      m_triangle_boxes[t] = m_node_boxes[tri[0]];
+      m_triangle_boxes[t].extend(m_node_boxes[tri[1]]);
+      m_triangle_boxes[t].extend(m_node_boxes[tri[2]]);
+    }
+  }
+  if (m_bvh.primitive_count() != triangle_count)
+    m_bvh.build(m_triangle_boxes);
+  else
+    m_bvh.refit_or_rebuild(m_triangle_boxes, kMaxDegradation);
+
+  const auto has_node = [](const std::array<int, 3>& tri, int k) {
+    return tri[0] == k || tri[1] == k || tri[2] == k;
+  };
+#pragma omp parallel if (triangle_count > kParallelThreshold)
+  {
+    std::vector<std::array<int, 2>> pt, ee;
+    const auto point_triangle = [&](int t_node, int t) {
+      for (int p = m_node_start[t_node]; p < m_node_start[t_node + 1]; ++p) {
+        const int k = m_owned_nodes[p];
+        if (!has_node(m_triangles[t], k) && m_node_boxes[k].overlaps(m_triangle_boxes[t]))
+          pt.push_back({k, t});
+      }
+    };
+#pragma omp for schedule(dynamic, 256) nowait
+    for (int t1 = 0; t1 < triangle_count; ++t1) {
+      const auto& box = m_triangle_boxes[t1];
+      m_bvh.traverse_wide(geometry::WideBoxQuery(box), [&](int t2) {
+        if (t2 <= t1 || !box.overlaps(m_triangle_boxes[t2])) return false;
+        if (m_obstacle_triangle[t1] && m_obstacle_triangle[t2]) return false;
+        if (!m_self && !m_obstacle_triangle[t1] && !m_obstacle_triangle[t2]) return false;
+        point_triangle(t1, t2);
+        point_triangle(t2, t1);
+        for (int p = m_edge_start[t1]; p < m_edge_start[t1 + 1]; ++p)
+          for (int q = m_edge_start[t2]; q < m_edge_start[t2 + 1]; ++q) {
+            const int e = m_owned_edges[p], f = m_owned_edges[q];
+            const auto &ea = m_edges[e], &eb = m_edges[f];
+            if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+            if (m_edge_boxes[e].overlaps(m_edge_boxes[f]))
+              ee.push_back({std::min(e, f), std::max(e, f)});
+          }
+        return false;
+      });
+    }
+#pragma omp critical
+    {
+      out.point_triangle.insert(out.point_triangle.end(), pt.begin(), pt.end());
+      out.edge_edge.insert(out.edge_edge.end(), ee.begin(), ee.end());
+    }
+  }
+}
+
+}  // namespace shellflow::cloth
