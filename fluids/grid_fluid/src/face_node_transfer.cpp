@@ -1,5 +1,7 @@
 #include "shellflow/grid_fluid/face_node_transfer.hpp"
 
+#include <algorithm>
+
 namespace shellflow::grid_fluid {
 
 using grid::Location;
@@ -37,13 +39,59 @@ void apply_boundary_velocities(MacGrid& mac, const DomainBoundary& boundary) {
 void FaceNodeTransfer::faces_to_nodes(const MacGrid& mac, NodeFields& nodes,
                                       const ShellGeometry& shells,
                                       const geometry::ShellBand* band) const {
-  const std::int64_t count = m_grid.size(Location::Node);
   const std::span<const std::uint8_t> in_band =
       band ? band->flags(Location::Node) : std::span<const std::uint8_t>();
-#pragma omp parallel for schedule(static)
-  for (std::int64_t node = 0; node < count; ++node) {
+  const auto general = [&](std::int64_t node) {
+    faces_to_nodes_with_rays(mac, nodes, shells, node);
+  };
+  // Fast path away from shells: the plain average of the (up to four) faces of family a
+  // around the node, with the flat indices computed per row instead of per face.
+  const Eigen::Vector3i cells = m_grid.cells();
+  const Eigen::Vector3i node_counts = m_grid.counts(Location::Node);
+  std::array<Eigen::Vector3i, 3> face_counts;
+  for (int a = 0; a < 3; ++a) face_counts[a] = m_grid.counts(face_location(a));
+  const auto plain_average = [&](const Eigen::Vector3i& ijk, std::int64_t node) {
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3;
+      const int c = (a + 2) % 3;
+      const Eigen::Vector3i& n = face_counts[a];
+      const double* u = mac.face_velocity(a).data();
+      const int b_lo = std::max(ijk[b] - 1, 0), b_hi = std::min(ijk[b], cells[b] - 1);
+      const int c_lo = std::max(ijk[c] - 1, 0), c_hi = std::min(ijk[c], cells[c] - 1);
+      double sum = 0.0;
+      int terms = 0;
+      Eigen::Vector3i f = ijk;
+      for (int fb = b_lo; fb <= b_hi; ++fb)
+        for (int fc = c_lo; fc <= c_hi; ++fc) {
+          f[b] = fb;
+          f[c] = fc;
+          sum += u[f.x() + std::int64_t(n.x()) * (f.y() + std::int64_t(n.y()) * f.z())];
+          ++terms;
+        }
+      nodes.velocity(a)[node] = terms > 0 ? sum / terms : 0.0;
+    }
+  };
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < node_counts.z(); ++k)
+    for (int j = 0; j < node_counts.y(); ++j)
+      for (int i = 0; i < node_counts.x(); ++i) {
+        const std::int64_t node =
+            i + std::int64_t(node_counts.x()) * (j + std::int64_t(node_counts.y()) * k);
+        const bool rays = !in_band.empty() && in_band[node] != 0;
+        if (!rays) {
+          plain_average(Eigen::Vector3i(i, j, k), node);
+        } else {
+          general(node);
+        }
+      }
+}
+
+void FaceNodeTransfer::faces_to_nodes_with_rays(const MacGrid& mac, NodeFields& nodes,
+                                                const ShellGeometry& shells,
+                                                std::int64_t node) const {
+  {
     const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, node);
-    const bool rays = !in_band.empty() && in_band[node] != 0;
+    const bool rays = true;
     const Eigen::Vector3d x = rays ? m_grid.position(Location::Node, ijk) : Eigen::Vector3d();
     for (int a = 0; a < 3; ++a) {
       const Location loc = face_location(a);
@@ -97,61 +145,64 @@ void FaceNodeTransfer::increments_to_faces(
     auto& u = mac.face_velocity(a);
     const auto& us = u_star.velocity(a);
     const auto& un = u_n[a];
-    const std::int64_t count = m_grid.size(loc);
     const std::span<const std::uint8_t> in_band =
         band ? band->flags(loc) : std::span<const std::uint8_t>();
     const bool has_swept = !face_swept[a].empty();
-#pragma omp parallel for schedule(static)
-    for (std::int64_t face = 0; face < count; ++face) {
-      const Eigen::Vector3i ijk = m_grid.coordinates(loc, face);
-      if (fixed_boundary_face(m_grid, boundary, a, ijk)) continue;
-      std::int64_t corner[4];
-      int m = 0;
-      for (int db = 0; db <= 1; ++db)
-        for (int dc = 0; dc <= 1; ++dc) {
-          Eigen::Vector3i v = ijk;
-          v[b] += db;
-          v[c] += dc;
-          corner[m++] = m_grid.index(Location::Node, v);
+    const Eigen::Vector3i n = m_grid.counts(loc);
+    const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
+    // Node offsets of the four corners (i_b + {0,1}, i_c + {0,1}) of a face of family a.
+    const std::int64_t node_stride[3] = {1, nodes.x(), std::int64_t(nodes.x()) * nodes.y()};
+    const std::int64_t corner_offset[4] = {0, node_stride[c], node_stride[b],
+                                           node_stride[b] + node_stride[c]};
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int k = 0; k < n.z(); ++k)
+      for (int j = 0; j < n.y(); ++j)
+        for (int i = 0; i < n.x(); ++i) {
+          const std::int64_t face = i + std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
+          const Eigen::Vector3i ijk(i, j, k);
+          if (fixed_boundary_face(m_grid, boundary, a, ijk)) continue;
+          const std::int64_t first =
+              i + std::int64_t(nodes.x()) * (j + std::int64_t(nodes.y()) * k);
+          std::int64_t corner[4];
+          for (int m = 0; m < 4; ++m) corner[m] = first + corner_offset[m];
+          const bool rays = !in_band.empty() && in_band[face] != 0;
+          if (!rays) {
+            // Fast path away from shells: the plain average of the four increments.
+            double du = 0.0;
+            for (const std::int64_t v : corner) du += us[v] - un[v];
+            u[face] += 0.25 * du;
+            continue;
+          }
+          const Eigen::Vector3d y = m_grid.position(loc, ijk);
+          const bool swept = has_swept && face_swept[a][face] != 0;
+          double du = 0.0;
+          int du_terms = 0;
+          double full = 0.0;
+          int full_terms = 0;
+          Eigen::Vector3d object_sum = Eigen::Vector3d::Zero();
+          int object_terms = 0;
+          for (const std::int64_t v : corner) {
+            const Eigen::Vector3d x = m_grid.position(Location::Node, v);
+            if (!shells.visible(y, x)) {
+              object_sum += shells.object_velocity(y, x);
+              ++object_terms;
+              continue;
+            }
+            full += us[v];
+            ++full_terms;
+            if (node_valid_before.empty() || node_valid_before[v] != 0) {
+              du += us[v] - un[v];
+              ++du_terms;
+            }
+          }
+          if (!swept && du_terms > 0) {
+            u[face] += du / du_terms;
+          } else if (full_terms > 0) {
+            u[face] = full / full_terms;  // swept face, or only swept visible nodes
+          } else if (object_terms > 0) {
+            u[face] = object_sum[a] / object_terms;  // §4.2: no visible node
+          }
         }
-      const bool rays = !in_band.empty() && in_band[face] != 0;
-      if (!rays) {
-        // Fast path away from shells: the plain average of the four increments.
-        double du = 0.0;
-        for (const std::int64_t v : corner) du += us[v] - un[v];
-        u[face] += 0.25 * du;
-        continue;
-      }
-      const Eigen::Vector3d y = m_grid.position(loc, ijk);
-      const bool swept = has_swept && face_swept[a][face] != 0;
-      double du = 0.0;
-      int du_terms = 0;
-      double full = 0.0;
-      int full_terms = 0;
-      Eigen::Vector3d object_sum = Eigen::Vector3d::Zero();
-      int object_terms = 0;
-      for (const std::int64_t v : corner) {
-        const Eigen::Vector3d x = m_grid.position(Location::Node, v);
-        if (!shells.visible(y, x)) {
-          object_sum += shells.object_velocity(y, x);
-          ++object_terms;
-          continue;
-        }
-        full += us[v];
-        ++full_terms;
-        if (node_valid_before.empty() || node_valid_before[v] != 0) {
-          du += us[v] - un[v];
-          ++du_terms;
-        }
-      }
-      if (!swept && du_terms > 0) {
-        u[face] += du / du_terms;
-      } else if (full_terms > 0) {
-        u[face] = full / full_terms;  // swept face, or only swept visible nodes
-      } else if (object_terms > 0) {
-        u[face] = object_sum[a] / object_terms;  // §4.2: no visible node
-      }
-    }
   }
 }
 

@@ -29,8 +29,8 @@ std::int64_t PressureProjection::neighbour(const Eigen::Vector3i& c, int axis, i
 }
 
 void PressureProjection::mark_neumann(MacGrid& mac, const DomainBoundary& boundary,
-                                      const ShellGeometry& shells,
-                                      const geometry::ShellBand* band, ProjectionStats& stats) {
+                                      const ShellGeometry& shells, const geometry::ShellBand* band,
+                                      ProjectionStats& stats) {
   for (int a = 0; a < 3; ++a) {
     auto& flags = m_neumann[a];
     std::fill(flags.begin(), flags.end(), 0);
@@ -99,10 +99,12 @@ void PressureProjection::flood_fill(const DomainBoundary& boundary, bool shell_f
     const std::uint8_t* closed_x = m_neumann[0].data();
     const std::uint8_t* closed_y = m_neumann[1].data();
     const std::uint8_t* closed_z = m_neumann[2].data();
-    const bool open_side[3][2] = {
-        {boundary.side(0, 0).type == BoundaryType::Open, boundary.side(0, 1).type == BoundaryType::Open},
-        {boundary.side(1, 0).type == BoundaryType::Open, boundary.side(1, 1).type == BoundaryType::Open},
-        {boundary.side(2, 0).type == BoundaryType::Open, boundary.side(2, 1).type == BoundaryType::Open}};
+    const bool open_side[3][2] = {{boundary.side(0, 0).type == BoundaryType::Open,
+                                   boundary.side(0, 1).type == BoundaryType::Open},
+                                  {boundary.side(1, 0).type == BoundaryType::Open,
+                                   boundary.side(1, 1).type == BoundaryType::Open},
+                                  {boundary.side(2, 0).type == BoundaryType::Open,
+                                   boundary.side(2, 1).type == BoundaryType::Open}};
     std::vector<std::int64_t> stack;
     for (std::int64_t seed = 0; seed < cells; ++seed) {
       if (m_region[seed] >= 0) continue;
@@ -273,8 +275,7 @@ void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats
   scaled = x;
 }
 
-ProjectionStats PressureProjection::project(MacGrid& mac, double dt,
-                                            const DomainBoundary& boundary,
+ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const DomainBoundary& boundary,
                                             const ShellGeometry& shells,
                                             const geometry::ShellBand* band) {
   ProjectionStats stats;

@@ -12,10 +12,18 @@ namespace shellflow::linear::detail {
 /// Face and cell offsets of one grid (cells n), in the GridLaplacian layout.
 struct CellStencil {
   int nx, ny, nz;
-  std::int64_t cell_row(int j, int k) const { return std::int64_t(nx) * (j + std::int64_t(ny) * k); }
-  std::int64_t face_x_row(int j, int k) const { return std::int64_t(nx + 1) * (j + std::int64_t(ny) * k); }
-  std::int64_t face_y_row(int j, int k) const { return std::int64_t(nx) * (j + std::int64_t(ny + 1) * k); }
-  std::int64_t face_z_row(int j, int k) const { return std::int64_t(nx) * (j + std::int64_t(ny) * k); }
+  std::int64_t cell_row(int j, int k) const {
+    return std::int64_t(nx) * (j + std::int64_t(ny) * k);
+  }
+  std::int64_t face_x_row(int j, int k) const {
+    return std::int64_t(nx + 1) * (j + std::int64_t(ny) * k);
+  }
+  std::int64_t face_y_row(int j, int k) const {
+    return std::int64_t(nx) * (j + std::int64_t(ny + 1) * k);
+  }
+  std::int64_t face_z_row(int j, int k) const {
+    return std::int64_t(nx) * (j + std::int64_t(ny) * k);
+  }
   std::int64_t plane() const { return std::int64_t(nx) * ny; }
 };
 
@@ -26,8 +34,8 @@ inline CellStencil stencil_of(const Eigen::Vector3i& n) {
 /// Calls f(i, cell, diagonal, neighbour_sum) for i = first, first + step, ... < nx on row
 /// (j, k). W: weight type, X: value type.
 template <class W, class X, class F>
-inline void for_row(const CellStencil& s, const W* wx, const W* wy, const W* wz, const X* x,
-                    int j, int k, int first, int step, F&& f) {
+inline void for_row(const CellStencil& s, const W* wx, const W* wy, const W* wz, const X* x, int j,
+                    int k, int first, int step, F&& f) {
   const std::int64_t row = s.cell_row(j, k);
   const W* fx = wx + s.face_x_row(j, k);
   const W* fy_lo = wy + s.face_y_row(j, k);
@@ -40,7 +48,8 @@ inline void for_row(const CellStencil& s, const W* wx, const W* wy, const W* wz,
   const X* x_back = k > 0 ? xc - s.plane() : nullptr;
   const X* x_front = k + 1 < s.nz ? xc + s.plane() : nullptr;
   for (int i = first; i < s.nx; i += step) {
-    const X diagonal = X(fx[i]) + X(fx[i + 1]) + X(fy_lo[i]) + X(fy_hi[i]) + X(fz_lo[i]) + X(fz_hi[i]);
+    const X diagonal =
+        X(fx[i]) + X(fx[i + 1]) + X(fy_lo[i]) + X(fy_hi[i]) + X(fz_lo[i]) + X(fz_hi[i]);
     X sum = 0;
     if (i > 0) sum += X(fx[i]) * xc[i - 1];
     if (i + 1 < s.nx) sum += X(fx[i + 1]) * xc[i + 1];

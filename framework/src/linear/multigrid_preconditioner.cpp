@@ -43,8 +43,8 @@ std::vector<Children> children_along(int fine_cells, int coarse_cells) {
   std::vector<Children> out(coarse_cells);
   for (int f = 0; f < fine_cells; ++f) {
     const Parents p = parents_of(f, coarse_cells);
-    for (const auto& [coarse, w] : {std::pair{p.first, p.first_weight},
-                                    std::pair{p.second, p.second_weight}}) {
+    for (const auto& [coarse, w] :
+         {std::pair{p.first, p.first_weight}, std::pair{p.second, p.second_weight}}) {
       if (w == 0.0f) continue;
       auto& c = out[coarse];
       c.fine[c.count] = f;
@@ -105,7 +105,8 @@ void coarsen_weights(const Level& fine, Level& coarse) {
           for (int k = lo[2]; k <= hi[2]; ++k)
             for (int j = lo[1]; j <= hi[1]; ++j)
               for (int i = lo[0]; i <= hi[0]; ++i)
-                sum += in[i + std::int64_t(fine_faces.x()) * (j + std::int64_t(fine_faces.y()) * k)];
+                sum +=
+                    in[i + std::int64_t(fine_faces.x()) * (j + std::int64_t(fine_faces.y()) * k)];
           out[I + std::int64_t(coarse_faces.x()) * (J + std::int64_t(coarse_faces.y()) * K)] =
               0.5f * sum;
         }
@@ -125,10 +126,9 @@ void half_sweep(const Level& level, int color) {
 #pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
   for (int k = 0; k < s.nz; ++k)
     for (int j = 0; j < s.ny; ++j)
-      detail::for_row(s, wx, wy, wz, static_cast<const float*>(x), j, k, (j + k + color) & 1, 2,
-                      [&](int, std::int64_t c, float, float sum) {
-                        x[c] = (b[c] + sum) * inverse[c];
-                      });
+      detail::for_row(
+          s, wx, wy, wz, static_cast<const float*>(x), j, k, (j + k + color) & 1, 2,
+          [&](int, std::int64_t c, float, float sum) { x[c] = (b[c] + sum) * inverse[c]; });
 }
 
 /// r = b − A x on a level.
@@ -187,10 +187,9 @@ void prolongate_add(const Level& coarse, const Level& fine,
     for (int j = 0; j < n.y(); ++j) {
       const Parents& pz = parents[2][k];
       const Parents& py = parents[1][j];
-      const float* rows[4] = {xc + pz.first * cplane + py.first * cnx,
-                              xc + pz.first * cplane + py.second * cnx,
-                              xc + pz.second * cplane + py.first * cnx,
-                              xc + pz.second * cplane + py.second * cnx};
+      const float* rows[4] = {
+          xc + pz.first * cplane + py.first * cnx, xc + pz.first * cplane + py.second * cnx,
+          xc + pz.second * cplane + py.first * cnx, xc + pz.second * cplane + py.second * cnx};
       const float w[4] = {pz.first_weight * py.first_weight, pz.first_weight * py.second_weight,
                           pz.second_weight * py.first_weight, pz.second_weight * py.second_weight};
       float* out = x + std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
@@ -198,7 +197,8 @@ void prolongate_add(const Level& coarse, const Level& fine,
         const Parents& px = parents[0][i];
         float sum = 0.0f;
         for (int q = 0; q < 4; ++q)
-          sum += w[q] * (px.first_weight * rows[q][px.first] + px.second_weight * rows[q][px.second]);
+          sum +=
+              w[q] * (px.first_weight * rows[q][px.first] + px.second_weight * rows[q][px.second]);
         out[i] += sum;
       }
     }
@@ -255,7 +255,8 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
 void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
   if (m_levels.empty() || r.size() != size())
     throw Error("MultigridPreconditioner::apply: " + std::to_string(r.size()) +
-                " entries for a hierarchy of " + std::to_string(size()) + " cells (compute(A) first)");
+                " entries for a hierarchy of " + std::to_string(size()) +
+                " cells (compute(A) first)");
   const int levels = static_cast<int>(m_levels.size());
   {
     const Level& fine = m_levels[0];

@@ -175,8 +175,8 @@ TEST(MultigridPreconditioner, PcgAgreesWithMic0AndCholmodOnIrregularDomains) {
 }
 
 /// Iterations of MG-PCG and MIC(0)-PCG to a relative residual of 1e-8 on `a`.
-std::pair<int, int> iterations_of(const GridLaplacian& a, const std::vector<int>& group,
-                                  int groups, int* levels = nullptr) {
+std::pair<int, int> iterations_of(const GridLaplacian& a, const std::vector<int>& group, int groups,
+                                  int* levels = nullptr) {
   const ConstantNullSpace null_space(group, groups);
   const Eigen::VectorXd b = consistent_rhs(a.size(), null_space, 9);
   MultigridPreconditioner mg;
@@ -209,10 +209,10 @@ TEST(MultigridPreconditioner, IterationsRoughlyIndependentOfGridSize) {
     plain.push_back(iterations_of(box, std::vector<int>(n * n * n, -1), 0, &levels));
     auto [a, group] = irregular(n);
     cut.push_back(iterations_of(a, group, 2));
-    std::printf("%d^3 (%d levels): smoke box MG-PCG %d, MIC(0)-PCG %d; shell-cut MG-PCG %d, "
-                "MIC(0)-PCG %d iterations\n",
-                n, levels, plain.back().first, plain.back().second, cut.back().first,
-                cut.back().second);
+    std::printf(
+        "%d^3 (%d levels): smoke box MG-PCG %d, MIC(0)-PCG %d; shell-cut MG-PCG %d, "
+        "MIC(0)-PCG %d iterations\n",
+        n, levels, plain.back().first, plain.back().second, cut.back().first, cut.back().second);
   }
   EXPECT_LE(plain.back().first, 1.5 * plain.front().first);
   EXPECT_LE(cut.back().first, 2.5 * cut.front().first);

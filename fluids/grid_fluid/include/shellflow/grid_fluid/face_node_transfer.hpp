@@ -43,6 +43,10 @@ class FaceNodeTransfer {
                            const DomainBoundary& boundary) const;
 
  private:
+  /// faces_to_nodes for one node in the shell band: rays decide which faces it sees.
+  void faces_to_nodes_with_rays(const MacGrid& mac, NodeFields& nodes, const ShellGeometry& shells,
+                                std::int64_t node) const;
+
   grid::UniformGrid m_grid;
 };
 

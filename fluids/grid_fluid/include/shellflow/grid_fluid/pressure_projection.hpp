@@ -53,9 +53,9 @@ struct ProjectionSettings {
 };
 
 struct ProjectionStats {
-  int regions = 0;            ///< connected fluid regions
-  int enclosed_regions = 0;   ///< regions without a Dirichlet face (compatibility corrected)
-  int iterations = 0;         ///< PCG iterations, summed over the solves (refinement passes)
+  int regions = 0;                 ///< connected fluid regions
+  int enclosed_regions = 0;        ///< regions without a Dirichlet face (compatibility corrected)
+  int iterations = 0;              ///< PCG iterations, summed over the solves (refinement passes)
   int max_region_iterations = 0;   ///< PCG iterations of the longest single solve
   double relative_residual = 0.0;  ///< largest over the solves
   bool converged = true;
@@ -119,13 +119,13 @@ class PressureProjection {
   std::vector<std::uint8_t> m_enclosed;
   std::vector<std::int64_t> m_region_start;  ///< CSR of the cells of each region
   std::vector<std::int64_t> m_region_cells;
-  std::vector<double> m_scaled; ///< p' = p Δt / Δx, kept as the next initial guess
+  std::vector<double> m_scaled;  ///< p' = p Δt / Δx, kept as the next initial guess
   linear::GridLaplacian m_laplacian;
   linear::ConstantNullSpace m_null_space;  ///< constants of the enclosed regions
   int m_enclosed_count = 0;
   std::vector<int> m_first_enclosed_cell;  ///< per enclosed group (CHOLMOD's pinned cell)
   linear::MultigridPreconditioner m_multigrid;
-  linear::SparseMatrix m_matrix;           ///< CSR form for MIC(0) and CHOLMOD
+  linear::SparseMatrix m_matrix;  ///< CSR form for MIC(0) and CHOLMOD
 };
 
 }  // namespace shellflow::grid_fluid
