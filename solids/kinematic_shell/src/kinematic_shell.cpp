@@ -8,7 +8,7 @@ namespace shellflow::kinematic_shell {
 sdk::Schema KinematicShell::schema() {
   using sdk::Schema;
   return Schema::object(
-             "a thin shell moved by a script (keyframes or analytic motion); it "
+             "a thin shell moved by a script (keyframes, analytic motion or a deforming wave); it "
              "pushes the fluid but feels no fluid force")
       .field("mesh", geometry::mesh_schema())
       .field("transform", geometry::transform_schema())

@@ -1,12 +1,14 @@
 #include "shellflow/kinematic_shell/motion.hpp"
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <vector>
 
 #include "shellflow/kinematic_shell/analytic_motion.hpp"
 #include "shellflow/kinematic_shell/keyframe_motion.hpp"
+#include "shellflow/kinematic_shell/wave_motion.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
 
@@ -65,7 +67,20 @@ sdk::Schema motion_schema() {
                          Schema::vec3(0.0, 0.0, 0.0).unit("rad/s").doc("ω (right-handed)"))
                   .field("center", Schema::vec3(0.0, 0.0, 0.0)
                                        .unit("m")
-                                       .doc("c: world point the rotation is about at t = 0")));
+                                       .doc("c: world point the rotation is about at t = 0")))
+      .option("wave",
+              Schema::object("a travelling wave deforms the shell: x(t) = x0 + A sin(k·x0 − ωt "
+                             "+ φ) d, exact velocities (x0: the node after \"transform\")")
+                  .field("amplitude", Schema::number(0.05).min(0.0).unit("m").doc("A"))
+                  .field("wave_vector", Schema::vec3(6.283185307179586, 0.0, 0.0)
+                                            .unit("rad/m")
+                                            .doc("k: 2π/wavelength along the direction of travel"))
+                  .field("angular_frequency",
+                         Schema::number(3.0).unit("rad/s").doc("ω (0: a standing wavy shape)"))
+                  .field("phase", Schema::number(0.0).unit("rad").doc("φ"))
+                  .field("direction", Schema::vec3(0.0, 0.0, 1.0).doc(
+                                          "d: the direction nodes move in (normalised; not "
+                                          "zero), e.g. the sheet's normal")));
 }
 
 std::unique_ptr<Motion> make_motion(const nlohmann::json& spec, const std::string& json_path) {
@@ -74,9 +89,25 @@ std::unique_ptr<Motion> make_motion(const nlohmann::json& spec, const std::strin
   static const sdk::Schema::Json options = motion_schema().json().at("options");
   if (!options.contains(type))
     throw ConfigError(json_path + "/type",
-                      "unknown motion \"" + type + "\"; use static, keyframes or analytic");
+                      "unknown motion \"" + type + "\"; use static, keyframes, analytic or wave");
   const auto& fields = options.at(type).at("fields");
   if (type == "static") return std::make_unique<StaticMotion>();
+  if (type == "wave") {
+    WaveParameters wave;
+    wave.amplitude = field(spec, fields, "amplitude").get<double>();
+    wave.wave_vector = sdk::json_vec3(field(spec, fields, "wave_vector"));
+    wave.angular_frequency = field(spec, fields, "angular_frequency").get<double>();
+    wave.phase = field(spec, fields, "phase").get<double>();
+    wave.direction = sdk::json_vec3(field(spec, fields, "direction"));
+    if (!(wave.amplitude >= 0.0) || !std::isfinite(wave.amplitude))
+      throw ConfigError(json_path + "/amplitude", "the amplitude must be a finite number >= 0 m");
+    if (!(wave.direction.norm() > 0.0))
+      throw ConfigError(json_path + "/direction", "the direction must not be zero");
+    if (!wave.wave_vector.allFinite() || !std::isfinite(wave.angular_frequency) ||
+        !std::isfinite(wave.phase))
+      throw ConfigError(json_path, "wave_vector, angular_frequency and phase must be finite");
+    return std::make_unique<WaveMotion>(wave);
+  }
   if (type == "analytic")
     return std::make_unique<AnalyticMotion>(sdk::json_vec3(field(spec, fields, "velocity")),
                                             sdk::json_vec3(field(spec, fields, "angular_velocity")),

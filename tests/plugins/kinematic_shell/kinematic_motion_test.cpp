@@ -9,6 +9,7 @@
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/kinematic_shell/analytic_motion.hpp"
 #include "shellflow/kinematic_shell/keyframe_motion.hpp"
+#include "shellflow/kinematic_shell/wave_motion.hpp"
 
 namespace shellflow::kinematic_shell {
 namespace {
@@ -218,6 +219,59 @@ TEST(KeyframeMotion, RejectsFewOrUnorderedKeys) {
   EXPECT_THROW(KeyframeMotion({key(1, {0, 0, 0}, {0, 1, 0}, 0), key(1, {1, 0, 0}, {0, 1, 0}, 0)},
                               Interpolation::Linear),
                std::invalid_argument);
+}
+
+// Wave ---------------------------------------------------------------------------------------
+
+WaveParameters sample_wave() {
+  WaveParameters p;
+  p.amplitude = 0.08;
+  p.wave_vector = Eigen::Vector3d(0.0, 2 * kPi, kPi);
+  p.angular_frequency = 3.0;
+  p.phase = 0.4;
+  p.direction = Eigen::Vector3d(2.0, 0.0, 0.0);  // normalised by the motion
+  return p;
+}
+
+TEST(WaveMotion, MatchesTheClosedFormAlongTheDirection) {
+  const WaveMotion motion(sample_wave());
+  const auto rest = sample_nodes();
+  sdk::Positions x, v;
+  for (double t = 0.0; t <= 3.0; t += 0.29) {
+    motion.evaluate(t, rest, x, v);
+    for (Eigen::Index i = 0; i < rest.rows(); ++i) {
+      const double y = rest(i, 1), z = rest(i, 2);
+      const double phase = 2 * kPi * y + kPi * z - 3.0 * t + 0.4;
+      EXPECT_NEAR(x(i, 0), rest(i, 0) + 0.08 * std::sin(phase), kRoundOff) << t << " " << i;
+      EXPECT_EQ(x(i, 1), rest(i, 1));  // only the x direction moves
+      EXPECT_EQ(x(i, 2), rest(i, 2));
+      EXPECT_NEAR(v(i, 0), -0.08 * 3.0 * std::cos(phase), kRoundOff);
+      EXPECT_EQ(v(i, 1), 0.0);
+    }
+  }
+}
+
+// Central differences of A sin(φ − ωt) err by at most A ω^3 h^2 / 6 (the Taylor remainder;
+// 3.6e-7 at h = 1e-3), and the error falls 4x when h halves (second order).
+TEST(WaveMotion, VelocitiesAreSecondOrderFiniteDifferencesOfPositions) {
+  const WaveMotion motion(sample_wave());
+  const auto rest = sample_nodes();
+  const double bound = 0.08 * 27.0 * 1e-6 / 6.0;
+  for (const double t : {0.0, 0.7, 2.3}) {
+    const double e1 = fd_velocity_error(motion, rest, t, 1e-3);
+    const double e2 = fd_velocity_error(motion, rest, t, 5e-4);
+    EXPECT_LE(e1, 1.001 * bound) << t;
+    EXPECT_NEAR(e1 / e2, 4.0, 0.05) << t;
+  }
+}
+
+TEST(WaveMotion, RejectsAZeroDirectionAndANegativeAmplitude) {
+  WaveParameters zero = sample_wave();
+  zero.direction.setZero();
+  EXPECT_THROW(WaveMotion{zero}, std::invalid_argument);
+  WaveParameters negative = sample_wave();
+  negative.amplitude = -1.0;
+  EXPECT_THROW(WaveMotion{negative}, std::invalid_argument);
 }
 
 }  // namespace

@@ -155,6 +155,9 @@ TEST(KinematicShell, BadKeysAreConfigErrorsNamingTheirPath) {
   one_key["motion"]["keys"].erase(1);
   one_key["motion"]["keys"].erase(1);
   expect_path(one_key, "/motion/keys");
+  Json wave = keyframe_params();
+  wave["motion"] = {{"type", "wave"}, {"direction", {0, 0, 0}}};
+  expect_path(wave, "/motion/direction");
   Json bad_box = keyframe_params();
   bad_box["mesh"] = {{"type", "box"}, {"size", {1, 0, 1}}};
   expect_path(bad_box, "/mesh/size");
@@ -166,7 +169,7 @@ TEST(KinematicShell, SchemaDocumentsEveryParameter) {
     EXPECT_TRUE(schema.at("fields").contains(field)) << field;
   const auto& motion = schema.at("fields").at("motion");
   EXPECT_EQ(motion.at("kind"), "variant");
-  for (const char* option : {"static", "keyframes", "analytic"})
+  for (const char* option : {"static", "keyframes", "analytic", "wave"})
     EXPECT_TRUE(motion.at("options").contains(option)) << option;
   EXPECT_EQ(motion.at("options").at("keyframes").at("fields").at("keys").at("min_items"), 2);
 }

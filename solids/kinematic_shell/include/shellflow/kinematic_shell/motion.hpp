@@ -28,12 +28,12 @@ class StaticMotion final : public Motion {
                 sdk::Positions& velocities) const override;
 };
 
-/// The "motion" variant: "static" | "keyframes" | "analytic".
+/// The "motion" variant: "static" | "keyframes" | "analytic" | "wave".
 sdk::Schema motion_schema();
 
 /// Builds the motion of a validated "motion" object (null: static). Throws ConfigError at
 /// `json_path` + "/..." for values the schema cannot check (key times not increasing,
-/// zero rotation axis).
+/// zero rotation axis, zero wave direction).
 std::unique_ptr<Motion> make_motion(const nlohmann::json& spec,
                                     const std::string& json_path = "/motion");
 
