@@ -18,6 +18,9 @@ ShellGeometry::ShellGeometry(sdk::ShellSet shells, double epsilon) : m_epsilon(e
                             ? surface.velocities
                             : sdk::Positions::Zero(surface.positions.rows(), 3);
     shell->triangles = surface.triangles;
+    shell->surface_density = surface.surface_density;
+    shell->receives_forces = surface.receives_fluid_forces;
+    shell->set_index = static_cast<int>(m_internal.size()) - 1;
     shell->mesh = geometry::TriangleMesh(shell->positions, *shell->triangles);
     shell->bvh = geometry::TriangleBvh(shell->mesh);
     m_shells.push_back(std::move(shell));
@@ -55,6 +58,12 @@ Eigen::Vector3d ShellGeometry::velocity_at(const geometry::WedgeHit& hit) const 
   for (int c = 0; c < 3; ++c)
     v += hit.barycentric[c] * shell.velocities.row(tri(hit.triangle, c)).transpose();
   return v;
+}
+
+double ShellGeometry::surface_density_at(const geometry::WedgeHit& hit) const {
+  const auto& sigma = m_shells[hit.shell]->surface_density;
+  if (sigma.size() == 0) return 0.0;
+  return sigma.size() == 1 ? sigma[0] : sigma[hit.triangle];
 }
 
 Eigen::Vector3d ShellGeometry::object_velocity(const Eigen::Vector3d& a,

@@ -69,6 +69,16 @@ void CouplingLoop::advance_solids(double t, double dt,
   }
 }
 
+std::vector<sdk::TriangleVectors> CouplingLoop::impulse_matched_forces(double dt_solid) const {
+  // The coupling pressure of step n is the impulse the fluid gives over Δt_n (§5.1 eq. (5));
+  // handing F Δt_n / Δt_solid to a solid that steps Δt_solid passes on exactly that
+  // impulse, so momentum is exchanged without loss when the step size changes.
+  std::vector<sdk::TriangleVectors> scaled(m_forces);
+  if (m_forces_dt > 0.0 && dt_solid > 0.0)
+    for (auto& f : scaled) f *= m_forces_dt / dt_solid;
+  return scaled;
+}
+
 void CouplingLoop::start(double t0, double time_to_first_frame) {
   m_time = t0;
   m_shells_n = gather_shells();
@@ -109,7 +119,7 @@ PhaseTimes CouplingLoop::step(double dt, double time_to_frame_end_after_step) {
       m_solids[i]->restore(in);
     }
     const auto t0 = Clock::now();
-    advance_solids(m_time, dt, m_forces);
+    advance_solids(m_time, dt, impulse_matched_forces(dt));
     times.solids += seconds_since(t0);
     m_ahead_dt = dt;
   }
@@ -126,6 +136,7 @@ PhaseTimes CouplingLoop::step(double dt, double time_to_frame_end_after_step) {
     for (size_t s = 0; s < shells_np1.size(); ++s)
       m_forces[s] = sdk::TriangleVectors::Zero(shells_np1[s].triangle_count(), 3);
     m_fluid->coupling_forces(dt, shells_np1, m_forces);
+    m_forces_dt = dt;
     times.coupling_forces = seconds_since(t0);
 
     // Look ahead: solids n+1 -> n+2 under the coupling forces (§6).
@@ -134,7 +145,7 @@ PhaseTimes CouplingLoop::step(double dt, double time_to_frame_end_after_step) {
         limit_dt(std::min(solids_stable_dt(), m_fluid->stable_dt(m_limits.cfl)),
                  time_to_frame_end_after_step > 0 ? time_to_frame_end_after_step : kInf);
     save_solids();
-    advance_solids(m_time + dt, dt_next, m_forces);
+    advance_solids(m_time + dt, dt_next, impulse_matched_forces(dt_next));
     m_ahead_dt = dt_next;
     const auto shells_np2 = gather_shells();
     for (size_t s = 0; s < shells_np1.size(); ++s)

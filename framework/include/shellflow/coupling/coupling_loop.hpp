@@ -9,9 +9,11 @@
 //   4. v_eff   = (x^{n+2} − x^{n+1}) / dt_{n+1}                          §4.3
 //   5. u^{n+1} = fluid.project(dt_n; shells^{n+1}, v_eff)                §4.3 eq. (3)–(4)
 //
+// F of step 2 is the impulse of the fluid over dt_n; the solids get F dt_n / dt_{n+1}
+// over their step, so the momentum handed over does not depend on the step sizes.
 // dt_{n+1} is chosen when the solids take step 3; if the fluid later needs a smaller
 // step (its CFL after projection, a frame boundary), the solids are restored to
-// x^{n+1} and re-advanced with the smaller step under the same forces, so the
+// x^{n+1} and re-advanced with the smaller step under the same impulse, so the
 // look-ahead always matches the step the fluid takes. Without a fluid the solids simply
 // advance; without solids the fluid runs steps 1 and 5 with no shells.
 
@@ -64,6 +66,8 @@ class CouplingLoop {
   void advance_solids(double t, double dt, std::span<const sdk::TriangleVectors> forces);
   double solids_stable_dt() const;
   void save_solids();
+  /// m_forces scaled by m_forces_dt / dt_solid (the same impulse over the solids' step).
+  std::vector<sdk::TriangleVectors> impulse_matched_forces(double dt_solid) const;
   double limit_dt(double dt, double time_to_frame_end) const;
 
   sdk::FluidSolver* m_fluid;
@@ -75,6 +79,7 @@ class CouplingLoop {
   double m_ahead_dt = 0.0;
   std::vector<sdk::StateBuffer> m_solid_states_np1;  ///< solids at n+1, for a re-advance
   std::vector<sdk::TriangleVectors> m_forces;        ///< forces per surface, last step
+  double m_forces_dt = 0.0;                          ///< the fluid step they were computed for
 };
 
 using Clock = std::chrono::steady_clock;

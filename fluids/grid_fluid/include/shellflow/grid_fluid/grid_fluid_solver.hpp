@@ -10,7 +10,11 @@
 //     3. sources, buoyancy, vorticity confinement on the nodes (§4.1)
 //     4. shells move n → n+1: swept nodes invalidated and refilled (§3)
 //     5. increments u* − u^n averaged back to the persistent faces with visibility (§4.2)
-//   coupling_forces(...)  one-way coupling: forces stay zero (two-way §5.1 is issue 6)
+//   coupling_forces(Δt, shells^{n+1})
+//     §5.1 eq. (5)–(6): faces cut by two-way shells take the shell's velocity and density
+//     σ/Δx, the variable-coefficient Poisson equation is solved without Neumann faces
+//     there, and the pressure jumps become per-triangle forces (CouplingPressure);
+//     skipped when no shell receives fluid forces
 //   project(Δt, shells^{n+1}, v_eff)
 //     Neumann faces across shells with the effective velocity, flood fill, compatibility
 //     per enclosed region, PCG/MIC(0) or CHOLMOD per region (§4.3); then faces → nodes.
@@ -21,6 +25,7 @@
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid_fluid/coupling_pressure.hpp"
 #include "shellflow/grid_fluid/domain_boundary.hpp"
 #include "shellflow/grid_fluid/face_node_transfer.hpp"
 #include "shellflow/grid_fluid/mac_grid.hpp"
@@ -40,6 +45,7 @@ namespace shellflow::grid_fluid {
 /// What the last step did, for report() and tests.
 struct StepStats {
   ProjectionStats projection;
+  CouplingStats coupling;
   SweptRefillStats refill;
   std::int64_t band_nodes = 0;
   std::int64_t source_nodes = 0;
@@ -55,10 +61,8 @@ class GridFluid final : public sdk::FluidSolver {
 
   double stable_dt(double cfl) const override;
   void advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSet shells_np1) override;
-  /// One-way coupling (this plugin, issue 4): the shells move the fluid through the
-  /// Neumann faces of the projection, but the fluid exerts NO force on them —
-  /// `triangle_forces` is left as the runtime passed it (zero). The §5.1 coupling
-  /// pressure solve (eq. (5)–(6)) arrives with the two-way coupling issue (issue 6).
+  /// §5.1: forces on the triangles of the shells that receive fluid forces, from u*
+  /// (CouplingPressure); rows of one-way shells stay as the runtime passed them (zero).
   void coupling_forces(double dt, sdk::ShellSet shells,
                        std::span<sdk::TriangleVectors> triangle_forces) override;
   void project(double dt, sdk::ShellSet shells,
@@ -76,9 +80,11 @@ class GridFluid final : public sdk::FluidSolver {
   NodeFields& nodes() { return m_nodes; }
   const NodeFields& nodes() const { return m_nodes; }
   const StepStats& last_step() const { return m_stats; }
+  const PressureProjection& projection() const { return m_projection; }
   const DomainBoundary& boundary() const { return m_boundary; }
   double epsilon() const { return m_epsilon; }
   bool temperature_enabled() const { return m_temperature; }
+  double fluid_density() const { return m_density; }
   /// Recomputes the node velocities from the faces (§4.2) against `shells` (e.g. after a
   /// test wrote face velocities directly).
   void refresh_nodes(sdk::ShellSet shells);
@@ -89,11 +95,14 @@ class GridFluid final : public sdk::FluidSolver {
   /// Makes `cache` hold `shells` (rebuilds unless the positions match).
   void ensure_geometry(std::unique_ptr<ShellGeometry>& cache, sdk::ShellSet shells) const;
   static std::vector<sdk::Positions> velocities_of(sdk::ShellSet shells);
+  /// The §5.1 solver, made on first use (its arrays cost memory only in two-way scenes).
+  CouplingPressure& coupling_pressure();
   void build_band(sdk::ShellSet shells_n, sdk::ShellSet shells_np1, double margin);
 
   sdk::Context m_context;
   DomainBoundary m_boundary;
   double m_epsilon = 0.0;
+  double m_density = 1.0;  ///< ρ [kg/m^3]
   bool m_temperature = false;
   BuoyancyParameters m_buoyancy;
   double m_vorticity = 0.0;
@@ -111,13 +120,14 @@ class GridFluid final : public sdk::FluidSolver {
   SmokeForces m_forces;
   SweptRefill m_refill;
   PressureProjection m_projection;
+  std::unique_ptr<CouplingPressure> m_coupling;  ///< made on the first two-way step
   geometry::ShellBand m_band;
   bool m_band_used = false;
   std::unique_ptr<ShellGeometry> m_geometry_n;
   std::unique_ptr<ShellGeometry> m_geometry_np1;
   double m_shell_speed = 0.0;
   StepStats m_stats;
-  bool m_logged_one_way = false;
+  bool m_logged_coupling = false;
 };
 
 }  // namespace shellflow::grid_fluid

@@ -49,6 +49,18 @@ class ShellGeometry {
   Eigen::Vector3d object_velocity(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
   /// The velocity at a hit.
   Eigen::Vector3d velocity_at(const geometry::WedgeHit& hit) const;
+  /// The wedge [a, b] meets first (thickness ε), or none; hit.shell is an internal index.
+  std::optional<geometry::WedgeHit> first_hit(const Eigen::Vector3d& a,
+                                              const Eigen::Vector3d& b) const {
+    if (m_shells.empty()) return std::nullopt;
+    return m_caster->first_hit(a, b);
+  }
+  /// Whether internal shell `shell` is two-way coupled (ShellSurface::receives_fluid_forces).
+  bool receives_forces(int shell) const { return m_shells[shell]->receives_forces; }
+  /// Surface density [kg/m^2] of the triangle at a hit.
+  double surface_density_at(const geometry::WedgeHit& hit) const;
+  /// ShellSet position of internal shell `shell`.
+  int set_index(int shell) const { return m_shells[shell]->set_index; }
 
   /// The last point of [a, b] from which a is reached without touching a wedge of
   /// thickness `epsilon` (b itself when the segment is clear; a when a is inside one).
@@ -61,6 +73,9 @@ class ShellGeometry {
     sdk::Positions positions;
     sdk::Positions velocities;
     std::shared_ptr<const sdk::Triangles> triangles;
+    Eigen::VectorXd surface_density;  ///< per triangle [kg/m^2]
+    bool receives_forces = false;
+    int set_index = -1;
     geometry::TriangleMesh mesh;
     geometry::TriangleBvh bvh;
   };

@@ -1,0 +1,361 @@
+#include "shellflow/grid_fluid/coupling_pressure.hpp"
+
+#include <omp.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "shellflow/geometry/gauss_jacobi_refill.hpp"
+#include "shellflow/linear/pcg_mic0_solver.hpp"
+#include "shellflow/sdk/error.hpp"
+
+namespace shellflow::grid_fluid {
+
+using grid::Location;
+
+CouplingPressure::CouplingPressure(const grid::UniformGrid& grid, CouplingSettings settings)
+    : m_grid(grid), m_settings(settings) {
+  if (!(settings.fluid_density > 0.0))
+    throw Error("CouplingPressure: the fluid density must be positive");
+  for (int a = 0; a < 3; ++a) m_closed[a].assign(m_grid.size(face_location(a)), 0);
+  m_scaled.assign(m_grid.size(Location::Cell), 0.0);
+}
+
+double CouplingPressure::beta(int axis, std::int64_t face) const {
+  if (m_closed[axis][face] != 0) return 0.0;
+  const auto& coupled = m_coupled[axis];
+  if (coupled.empty()) return 1.0;
+  const auto it = coupled.find(face);
+  return it == coupled.end() ? 1.0 : m_shell_faces[it->second].beta;
+}
+
+void CouplingPressure::classify_faces(const DomainBoundary& boundary,
+                                      const ShellGeometry& shells,
+                                      const geometry::ShellBand& band, CouplingStats& stats) {
+  m_shell_faces.clear();
+  const double dx = m_grid.dx();
+  const double half = 0.5 * dx;
+  for (int a = 0; a < 3; ++a) {
+    auto& closed = m_closed[a];
+    std::fill(closed.begin(), closed.end(), 0);
+    m_coupled[a].clear();
+    const Location loc = face_location(a);
+    const Eigen::Vector3i n = m_grid.counts(loc);
+    const int b = (a + 1) % 3;
+    const int c = (a + 2) % 3;
+    for (int side = 0; side < 2; ++side) {  // walls and inflow faces: Neumann
+      if (boundary.side(a, side).type == BoundaryType::Open) continue;
+      Eigen::Vector3i ijk;
+      ijk[a] = side == 0 ? 0 : m_grid.cells()[a];
+      for (ijk[c] = 0; ijk[c] < n[c]; ++ijk[c])
+        for (ijk[b] = 0; ijk[b] < n[b]; ++ijk[b]) closed[m_grid.index(loc, ijk)] = 1;
+    }
+    // Fig. 5: the segment between the two cell centres meets a shell.
+    const auto list = band.samples(loc);
+    const std::int64_t m = static_cast<std::int64_t>(list.size());
+    std::vector<std::vector<ShellFace>> found(omp_get_max_threads());
+    bool bad_density = false;
+#pragma omp parallel for schedule(dynamic, 256) reduction(|| : bad_density)
+    for (std::int64_t s = 0; s < m; ++s) {
+      const std::int64_t f = list[s];
+      const Eigen::Vector3i ijk = m_grid.coordinates(loc, f);
+      if (ijk[a] == 0 || ijk[a] == m_grid.cells()[a]) continue;
+      Eigen::Vector3d c0 = m_grid.position(loc, ijk);
+      Eigen::Vector3d c1 = c0;
+      c0[a] -= half;
+      c1[a] += half;
+      const auto hit = shells.first_hit(c0, c1);
+      if (!hit) continue;
+      const double velocity = shells.velocity_at(*hit)[a];
+      double beta = 0.0;  // a one-way shell: Neumann, it does not yield to the fluid
+      if (shells.receives_forces(hit->shell)) {
+        const double sigma = shells.surface_density_at(*hit);
+        if (!(sigma > 0.0)) {
+          bad_density = true;
+          continue;
+        }
+        beta = m_settings.fluid_density * dx / sigma;  // ρ / ρ_face with ρ_face = σ Δx²/Δx³
+      }
+      found[omp_get_thread_num()].push_back({a, f, velocity, beta});
+    }
+    if (bad_density)
+      throw Error("grid_fluid coupling: a two-way shell has a triangle of zero or negative "
+                  "surface density; give every two-way shell a positive surface density");
+    const size_t first = m_shell_faces.size();
+    for (const auto& part : found) m_shell_faces.insert(m_shell_faces.end(), part.begin(), part.end());
+    std::sort(m_shell_faces.begin() + first, m_shell_faces.end(),
+              [](const ShellFace& x, const ShellFace& y) { return x.face < y.face; });
+    for (size_t k = first; k < m_shell_faces.size(); ++k) {
+      const ShellFace& sf = m_shell_faces[k];
+      if (sf.beta == 0.0) {
+        closed[sf.face] = 1;
+        ++stats.kinematic_faces;
+      } else {
+        m_coupled[a].emplace(sf.face, static_cast<int>(k));
+        ++stats.coupled_faces;
+      }
+    }
+  }
+}
+
+Eigen::VectorXd CouplingPressure::right_hand_side(const MacGrid& mac) const {
+  const std::int64_t cells = m_grid.size(Location::Cell);
+  Eigen::VectorXd b(cells);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t cell = 0; cell < cells; ++cell)
+    b[cell] = -mac.outward_flux(m_grid.coordinates(Location::Cell, cell));
+  // Shell faces carry the shell's velocity (§5.1), not u*.
+  for (const ShellFace& sf : m_shell_faces) {
+    const double delta = sf.velocity - mac.face_velocity(sf.axis)[sf.face];
+    Eigen::Vector3i ijk = m_grid.coordinates(face_location(sf.axis), sf.face);
+    b[m_grid.index(Location::Cell, ijk)] += delta;  // its min face: outward −u
+    ijk[sf.axis] -= 1;
+    b[m_grid.index(Location::Cell, ijk)] -= delta;  // its max face: outward +u
+  }
+  return b;
+}
+
+void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
+                             CouplingStats& stats) {
+  label_fluid_regions(m_grid, m_closed, boundary, m_regions);
+  const std::int64_t cells = m_grid.size(Location::Cell);
+  const Eigen::Vector3i n = m_grid.cells();
+  for (int r = 0; r < m_regions.count(); ++r) {
+    if (m_regions.enclosed[r] == 0) continue;
+    double mean = 0.0;
+    for (std::int64_t k = m_regions.start[r]; k < m_regions.start[r + 1]; ++k)
+      mean += b[m_regions.cells[k]];
+    mean /= static_cast<double>(m_regions.size(r));
+    for (std::int64_t k = m_regions.start[r]; k < m_regions.start[r + 1]; ++k)
+      b[m_regions.cells[k]] -= mean;
+  }
+
+  // The β-weighted cell Laplacian, compressed rows filled in place (sorted columns:
+  // −z, −y, −x, self, +x, +y, +z).
+  linear::SparseMatrix A(cells, cells);
+  int* outer = A.outerIndexPtr();
+  const std::int64_t stride[3] = {1, n.x(), std::int64_t{n.x()} * n.y()};
+  outer[0] = 0;
+#pragma omp parallel for schedule(static)
+  for (std::int64_t cell = 0; cell < cells; ++cell) {
+    const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
+    int count = 1;
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Vector3i f = c;
+      if (c[a] > 0 && m_closed[a][m_grid.index(face_location(a), f)] == 0) ++count;
+      f[a] += 1;
+      if (c[a] + 1 < n[a] && m_closed[a][m_grid.index(face_location(a), f)] == 0) ++count;
+    }
+    outer[cell + 1] = count;
+  }
+  for (std::int64_t cell = 0; cell < cells; ++cell) outer[cell + 1] += outer[cell];
+  A.resizeNonZeros(outer[cells]);
+  int* inner = A.innerIndexPtr();
+  double* value = A.valuePtr();
+#pragma omp parallel for schedule(static)
+  for (std::int64_t cell = 0; cell < cells; ++cell) {
+    const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
+    double lower[3], upper[3];  // β of the min and max face per axis
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Vector3i f = c;
+      lower[a] = beta(a, m_grid.index(face_location(a), f));
+      f[a] += 1;
+      upper[a] = beta(a, m_grid.index(face_location(a), f));
+    }
+    int pos = outer[cell];
+    double diag = 0.0;
+    for (int a = 2; a >= 0; --a) {
+      diag += lower[a];  // behind an open domain face q = 0 (Dirichlet)
+      if (c[a] > 0 && lower[a] != 0.0) {
+        inner[pos] = static_cast<int>(cell - stride[a]);
+        value[pos++] = -lower[a];
+      }
+    }
+    const int self = pos++;
+    for (int a = 0; a < 3; ++a) {
+      diag += upper[a];
+      if (c[a] + 1 < n[a] && upper[a] != 0.0) {
+        inner[pos] = static_cast<int>(cell + stride[a]);
+        value[pos++] = -upper[a];
+      }
+    }
+    inner[self] = static_cast<int>(cell);
+    value[self] = diag;
+  }
+
+  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(m_scaled.data(), cells);
+  linear::PcgMic0Solver pcg;
+  pcg.compute(A);
+  const auto result = pcg.solve(b, x, m_settings.tolerance, m_settings.max_iterations);
+  stats.iterations = result.iterations;
+  stats.relative_residual = result.relative_residual;
+  stats.converged = result.converged;
+  std::copy(x.data(), x.data() + cells, m_scaled.begin());
+}
+
+void CouplingPressure::jumps_to_nodes(double to_pressure, CouplingStats& stats) {
+  const std::int64_t nodes = m_grid.size(Location::Node);
+  for (int a = 0; a < 3; ++a) {
+    if (m_node_jump[a].size() != static_cast<size_t>(nodes)) {
+      m_node_jump[a].assign(nodes, 0.0);
+      m_node_valid[a].assign(nodes, 0);
+    }
+  }
+  for (const std::int64_t i : m_touched)
+    for (int a = 0; a < 3; ++a) {
+      m_node_jump[a][i] = 0.0;
+      m_node_valid[a][i] = 0;
+    }
+  m_touched.clear();
+  // Each shell face's jump p₊ − p₋ goes to its four nodes (summed, then averaged).
+  for (const ShellFace& sf : m_shell_faces) {
+    if (sf.beta == 0.0) continue;
+    const int a = sf.axis;
+    const Eigen::Vector3i ijk = m_grid.coordinates(face_location(a), sf.face);
+    Eigen::Vector3i lo = ijk;
+    lo[a] -= 1;
+    const double jump = (m_scaled[m_grid.index(Location::Cell, ijk)] -
+                         m_scaled[m_grid.index(Location::Cell, lo)]) *
+                        to_pressure;
+    stats.max_pressure_jump = std::max(stats.max_pressure_jump, std::abs(jump));
+    const int b = (a + 1) % 3;
+    const int c = (a + 2) % 3;
+    for (int db = 0; db < 2; ++db)
+      for (int dc = 0; dc < 2; ++dc) {
+        Eigen::Vector3i node = ijk;
+        node[b] += db;
+        node[c] += dc;
+        const std::int64_t i = m_grid.index(Location::Node, node);
+        if (m_node_valid[a][i] == 0) m_touched.push_back(i);
+        m_node_jump[a][i] += jump;
+        m_node_valid[a][i] += 1;
+      }
+  }
+  for (const std::int64_t i : m_touched)
+    for (int a = 0; a < 3; ++a)
+      if (m_node_valid[a][i] > 1) {
+        m_node_jump[a][i] /= m_node_valid[a][i];
+        m_node_valid[a][i] = 1;
+      }
+}
+
+void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
+                                           std::span<sdk::TriangleVectors> forces,
+                                           CouplingStats& stats) {
+  const double dx = m_grid.dx();
+  const Eigen::Vector3i last = m_grid.counts(Location::Node).array() - 2;
+  // The trilinear stencil of a point: its lower node and the weights along each axis.
+  const auto stencil = [&](const Eigen::Vector3d& x, Eigen::Vector3i& lower, Eigen::Vector3d& t) {
+    const Eigen::Vector3d g = (x - m_grid.origin()) / dx;
+    for (int a = 0; a < 3; ++a) {
+      lower[a] = std::clamp(static_cast<int>(std::floor(g[a])), 0, std::max(0, last[a]));
+      t[a] = std::clamp(g[a] - lower[a], 0.0, 1.0);
+    }
+  };
+  const auto barycentre = [](const sdk::ShellSurface& s, int tri) {
+    const auto& T = *s.triangles;
+    return ((s.positions.row(T(tri, 0)) + s.positions.row(T(tri, 1)) + s.positions.row(T(tri, 2))) /
+            3.0)
+        .transpose()
+        .eval();
+  };
+
+  // Step 3: spread the jumps to every node of the triangles' stencils.
+  std::vector<std::int64_t> candidates;
+  for (const auto& s : set) {
+    if (!s.receives_fluid_forces) continue;
+    for (int tri = 0; tri < s.triangle_count(); ++tri) {
+      Eigen::Vector3i lower;
+      Eigen::Vector3d t;
+      stencil(barycentre(s, tri), lower, t);
+      for (int corner = 0; corner < 8; ++corner)
+        candidates.push_back(m_grid.index(
+            Location::Node, lower + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2)));
+    }
+  }
+  std::sort(candidates.begin(), candidates.end());
+  candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  const geometry::GaussJacobiRefill refill(m_grid, Location::Node, m_settings.spread_layers);
+  for (int a = 0; a < 3; ++a) {
+    std::vector<std::int64_t> isolated;
+    // The jump is a property of the sheet, the same seen from either side: no rays.
+    refill.run(std::span<double>(m_node_jump[a]), std::span<std::uint8_t>(m_node_valid[a]),
+               std::span<const std::int64_t>(candidates),
+               [](std::int64_t, std::int64_t) { return true; },
+               [&](std::int64_t from, std::int64_t to) {
+                 if (from == to) isolated.push_back(from);  // called serially for these
+                 return 0.0;
+               });
+    for (const std::int64_t i : isolated) m_node_valid[a][i] = 2;  // no data: ignored below
+  }
+  m_touched.insert(m_touched.end(), candidates.begin(), candidates.end());
+
+  // Step 4: D at the barycentre, [p] = D·n/|n|₁ over the axes with data, F = −[p] A n.
+  for (size_t si = 0; si < set.size(); ++si) {
+    const auto& s = set[si];
+    if (!s.receives_fluid_forces) continue;
+    auto& out = forces[si];
+    const auto& T = *s.triangles;
+    const int count = s.triangle_count();
+    std::int64_t missing = 0;
+    double fx = 0.0, fy = 0.0, fz = 0.0;
+#pragma omp parallel for schedule(static) reduction(+ : missing, fx, fy, fz)
+    for (int tri = 0; tri < count; ++tri) {
+      const Eigen::Vector3d p0 = s.positions.row(T(tri, 0)).transpose();
+      const Eigen::Vector3d area = 0.5 * (s.positions.row(T(tri, 1)).transpose() - p0)
+                                             .cross(s.positions.row(T(tri, 2)).transpose() - p0);
+      const double a_norm = area.norm();
+      if (a_norm == 0.0) continue;
+      const Eigen::Vector3d normal = area / a_norm;
+      Eigen::Vector3i lower;
+      Eigen::Vector3d t;
+      stencil(barycentre(s, tri), lower, t);
+      double along = 0.0;  // Σ n_a D_a over axes with data
+      double weight = 0.0; // Σ |n_a| over the same axes
+      for (int a = 0; a < 3; ++a) {
+        double sum = 0.0, w_sum = 0.0;
+        for (int corner = 0; corner < 8; ++corner) {
+          const Eigen::Vector3i d(corner & 1, (corner >> 1) & 1, corner >> 2);
+          const std::int64_t i = m_grid.index(Location::Node, lower + d);
+          if (m_node_valid[a][i] != 1) continue;
+          const double w = (d.x() ? t.x() : 1.0 - t.x()) * (d.y() ? t.y() : 1.0 - t.y()) *
+                           (d.z() ? t.z() : 1.0 - t.z());
+          sum += w * m_node_jump[a][i];
+          w_sum += w;
+        }
+        if (w_sum <= 1e-12) continue;
+        along += normal[a] * sum / w_sum;
+        weight += std::abs(normal[a]);
+      }
+      if (weight < 1e-6) {
+        ++missing;
+        continue;
+      }
+      const Eigen::Vector3d f = -(along / weight) * area;
+      out.row(tri) = f.transpose();
+      fx += f.x();
+      fy += f.y();
+      fz += f.z();
+    }
+    stats.triangles_without_jump += missing;
+    stats.total_force += Eigen::Vector3d(fx, fy, fz);
+  }
+}
+
+CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
+                                        const DomainBoundary& boundary,
+                                        const ShellGeometry& shells,
+                                        const geometry::ShellBand& band, sdk::ShellSet set,
+                                        std::span<sdk::TriangleVectors> forces) {
+  CouplingStats stats;
+  if (forces.size() != set.size())
+    throw Error("CouplingPressure: one force matrix per shell expected");
+  classify_faces(boundary, shells, band, stats);
+  Eigen::VectorXd b = right_hand_side(mac);
+  solve(b, boundary, stats);
+  jumps_to_nodes(m_settings.fluid_density * m_grid.dx() / dt, stats);
+  forces_on_triangles(set, forces, stats);
+  return stats;
+}
+
+}  // namespace shellflow::grid_fluid

@@ -1,0 +1,172 @@
+// Two-way coupling (§5.1 eq. (5)–(6), §6): the fluid pushes shells back. A rigid plate
+// that slides along its normal (the smallest two-way solid) runs through the runtime's
+// §6 loop (coupling::CouplingLoop) against the grid_fluid solver.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "grid_fluid_test_support.hpp"
+#include "shellflow/coupling/coupling_loop.hpp"
+
+namespace shellflow::grid_fluid {
+namespace {
+
+constexpr double kForever = 1e9;  // no frame end inside these runs
+
+/// A flat plate, normal +x, that only translates along x: M dv/dt = Σ F_x (symplectic
+/// Euler). A fixed plate receives the forces but does not move.
+class SlidingPlate final : public sdk::SolidSolver {
+ public:
+  SlidingPlate(const Eigen::Vector3d& center, double size, double sigma, bool fixed)
+      : m_fixed(fixed) {
+    m_surface = test::make_plate(center, Eigen::Vector3d::UnitX(), size, 7);
+    m_surface.surface_density.setConstant(sigma);
+    m_surface.receives_fluid_forces = true;
+    m_rest = m_surface.positions;
+    m_mass = sigma * size * size;
+  }
+  std::span<const sdk::ShellSurface> surfaces() const override { return {&m_surface, 1}; }
+  void advance(double, double dt, std::span<const sdk::TriangleVectors> forces) override {
+    m_force = forces.empty() || forces[0].rows() == 0
+                  ? Eigen::Vector3d::Zero()
+                  : Eigen::Vector3d(forces[0].colwise().sum().transpose());
+    if (!m_fixed) {
+      m_velocity += dt * m_force.x() / m_mass;
+      m_offset += dt * m_velocity;
+    }
+    m_surface.positions = m_rest;
+    m_surface.positions.col(0).array() += m_offset;
+    m_surface.velocities.setZero();
+    m_surface.velocities.col(0).setConstant(m_velocity);
+  }
+  void save(sdk::StateWriter& out) const override {
+    out.write(m_velocity);
+    out.write(m_offset);
+  }
+  void restore(sdk::StateReader& in) override {
+    m_velocity = in.read<double>();
+    m_offset = in.read<double>();
+    advance(0.0, 0.0, {});
+  }
+  void set_velocity(double v) {
+    m_velocity = v;
+    advance(0.0, 0.0, {});
+  }
+  double velocity() const { return m_velocity; }
+  double mass() const { return m_mass; }
+  /// Σ of the triangle forces of the last advance() [N].
+  const Eigen::Vector3d& force() const { return m_force; }
+
+ private:
+  sdk::ShellSurface m_surface;
+  sdk::Positions m_rest;
+  bool m_fixed;
+  double m_mass;
+  double m_velocity = 0.0;
+  double m_offset = 0.0;
+  Eigen::Vector3d m_force = Eigen::Vector3d::Zero();
+};
+
+/// A channel along x: inflow at x = 0 with speed `u`, open at x = length, walls elsewhere.
+nlohmann::json channel(double u, double length, int resolution) {
+  return {{"domain", {{"min", {0, 0, 0}}, {"max", {length, 1, 1}}}},
+          {"resolution", resolution},
+          {"boundary",
+           {{"x_min", {{"type", "inflow"}, {"velocity", {u, 0, 0}}}},
+            {"x_max", {{"type", "open"}}}}},
+          {"pressure", {{"tolerance", 1e-10}}}};
+}
+
+/// Kinetic energy of the fluid on the MAC faces, ½ ρ Σ u_f² Δx³ [J].
+double fluid_kinetic_energy(const GridFluid& fluid) {
+  double sum = 0.0;
+  for (int a = 0; a < 3; ++a)
+    for (const double u : fluid.mac().face_velocity(a)) sum += u * u;
+  const double dx = fluid.mac().dx();
+  return 0.5 * fluid.fluid_density() * sum * dx * dx * dx;
+}
+
+/// Force of the shells on the fluid through the projection's shell-closed x faces,
+/// ρ Σ (p₊ − p₋) Δx² along x [N] (the reaction of the plate's Neumann constraint).
+double projection_force_on_fluid_x(const GridFluid& fluid) {
+  const auto& g = fluid.grid();
+  const auto& closed = fluid.projection().neumann(0);
+  const auto& p = fluid.mac().pressure();
+  double sum = 0.0;
+  for (std::int64_t f = 0; f < static_cast<std::int64_t>(closed.size()); ++f) {
+    if (closed[f] == 0) continue;
+    const Eigen::Vector3i ijk = g.coordinates(grid::Location::FaceX, f);
+    if (ijk.x() == 0 || ijk.x() == g.cells().x()) continue;  // domain faces
+    Eigen::Vector3i lo = ijk;
+    lo.x() -= 1;
+    sum += p[g.index(grid::Location::Cell, ijk)] - p[g.index(grid::Location::Cell, lo)];
+  }
+  return fluid.fluid_density() * sum * g.dx() * g.dx();
+}
+
+TEST(TwoWayCoupling, ForceOnAFixedPlatePointsDownstreamAndScalesWithSpeedSquared) {
+  // Inviscid flow stepped at a fixed CFL number is scale invariant: u → λu, t → t/λ,
+  // p → λ²p. So the force at step k for stream speed 2U is exactly 4× that for U, up to
+  // the PCG tolerance (1e-10) amplified by the pressure differences taken.
+  std::vector<Eigen::Vector3d> forces[2];
+  for (int run = 0; run < 2; ++run) {
+    const double u = run == 0 ? 1.0 : 2.0;
+    auto fluid = test::make_fluid(channel(u, 2.0, 24), Eigen::Vector3d::Zero());
+    SlidingPlate plate({0.8, 0.5, 0.5}, 0.5, 1.0, /*fixed=*/true);
+    coupling::CouplingLoop loop(fluid.get(), {&plate}, {0.5, std::nullopt});
+    loop.start(0.0, kForever);
+    for (int step = 0; step < 12; ++step) {
+      loop.step(loop.next_dt(kForever), kForever);
+      forces[run].push_back(plate.force());
+    }
+    EXPECT_GT(fluid->last_step().coupling.coupled_faces, 0);
+  }
+  for (size_t k = 1; k < forces[0].size(); ++k) {
+    const Eigen::Vector3d& f1 = forces[0][k];
+    EXPECT_GT(f1.x(), 0.0) << "step " << k << ": the stream pushes the plate downstream";
+    // The plate and grid are symmetric about y = z = 0.5; the triangulation is not, so
+    // the cross-stream force is round-off of the jump interpolation: 1e-6 of the drag.
+    EXPECT_LE(std::abs(f1.y()) + std::abs(f1.z()), 1e-6 * f1.x()) << "step " << k;
+    EXPECT_NEAR(forces[1][k].x() / f1.x(), 4.0, 4e-6) << "step " << k;
+  }
+}
+
+TEST(TwoWayCoupling, FreePlateAcceleratesTowardTheStreamAndNeverPassesIt) {
+  // A free plate (σ = 1 kg/m², 0.5 m square, ρ = 1) starts at rest in a channel with a
+  // stream of 1 m/s: drag pulls it toward the stream's speed, never past it, and the
+  // momentum it gains (§5.1 coupling pressure) is the momentum the fluid loses through
+  // the plate's Neumann faces (§4.3 projection pressure). Step by step the force is not
+  // smooth: each time the plate crosses a plane of cell centres (every ~5 steps here) the
+  // face it newly closes holds slower wake fluid, which the plate must push: one step of
+  // backward force, so only the trend over several crossings is checked.
+  const double u = 1.0;
+  auto fluid = test::make_fluid(channel(u, 4.0, 48), Eigen::Vector3d::Zero());
+  SlidingPlate plate({0.6, 0.5, 0.5}, 0.5, 1.0, /*fixed=*/false);
+  coupling::CouplingLoop loop(fluid.get(), {&plate}, {0.5, std::nullopt});
+  loop.start(0.0, kForever);
+  double fluid_impulse = 0.0;  // on the fluid from the plate's Neumann faces
+  double last_v = 0.0;
+  for (int step = 0; step < 60; ++step) {
+    const double dt = loop.next_dt(kForever);
+    loop.step(dt, kForever);
+    fluid_impulse += projection_force_on_fluid_x(*fluid) * dt;
+    EXPECT_LE(plate.velocity(), u) << "step " << step << ": the plate passed the stream";
+    if (step % 15 == 14) {  // the trend over ~3 cell crossings (see below)
+      EXPECT_GT(plate.velocity(), last_v) << "step " << step << ": the plate is not speeding up";
+      last_v = plate.velocity();
+    }
+  }
+  const double plate_momentum = plate.mass() * plate.velocity();
+  std::printf("free plate: v = %.4f U after t = %.3f s; plate momentum %.5f N s, fluid "
+              "impulse from the plate %.5f N s\n",
+              last_v / u, loop.time(), plate_momentum, fluid_impulse);
+  EXPECT_GT(last_v, 0.5 * u);
+  // Measured: the two differ by 0.22% at 48×12×12 (the plate runs one step ahead of the
+  // fluid, §6, and swept cells take the plate's velocity without a pressure); 1% bound.
+  EXPECT_NEAR(-fluid_impulse, plate_momentum, 0.01 * plate_momentum);
+}
+
+}  // namespace
+}  // namespace shellflow::grid_fluid
