@@ -221,10 +221,13 @@ void PressureProjection::build_operator() {
       group_of_region[r] = m_enclosed_count++;
       m_first_enclosed_cell.push_back(static_cast<int>(m_region_cells[m_region_start[r]]));
     }
-  std::vector<int> group(m_region.size(), -1);
-  if (m_enclosed_count > 0)
+  if (m_enclosed_count > 0) {
+    std::vector<int> group(m_region.size());
     for (size_t c = 0; c < group.size(); ++c) group[c] = group_of_region[m_region[c]];
-  m_null_space = linear::ConstantNullSpace(std::move(group), m_enclosed_count);
+    m_null_space = linear::ConstantNullSpace(std::move(group), m_enclosed_count);
+  } else {
+    m_null_space = linear::ConstantNullSpace();  // no singular region: nothing to project
+  }
 
   if (m_settings.solver == PressureSolver::Pcg &&
       m_settings.preconditioner == PressurePreconditioner::Multigrid) {

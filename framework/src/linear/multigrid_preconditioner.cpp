@@ -59,20 +59,31 @@ bool parallel(const Level& level) {
   return level.cells.prod() >= kParallelThreshold;
 }
 
+/// Calls f(wx, wy, wz) with the level's face weights: one byte per face when every weight
+/// is 0 or 1 (the projection's fine grid: a third of the memory traffic of floats), floats
+/// otherwise.
+template <class F>
+void with_weights(const Level& level, F&& f) {
+  if (level.unit_weights) {
+    f(level.open[0].data(), level.open[1].data(), level.open[2].data());
+  } else {
+    f(level.weight[0].data(), level.weight[1].data(), level.weight[2].data());
+  }
+}
+
 void compute_inverse_diagonal(Level& level) {
   const auto s = detail::stencil_of(level.cells);
   level.inverse_diagonal.resize(level.cells.prod());
-  const float* wx = level.weight[0].data();
-  const float* wy = level.weight[1].data();
-  const float* wz = level.weight[2].data();
   const float* x = level.inverse_diagonal.data();  // not read: the sum is ignored
   float* out = level.inverse_diagonal.data();
+  with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
 #pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
-  for (int k = 0; k < s.nz; ++k)
-    for (int j = 0; j < s.ny; ++j)
-      detail::for_row(s, wx, wy, wz, x, j, k, 0, 1, [&](int, std::int64_t c, float d, float) {
-        out[c] = d > 0.0f ? 1.0f / d : 0.0f;  // isolated cell: left at 0
-      });
+    for (int k = 0; k < s.nz; ++k)
+      for (int j = 0; j < s.ny; ++j)
+        detail::for_row(s, wx, wy, wz, x, j, k, 0, 1, [&](int, std::int64_t c, float d, float) {
+          out[c] = d > 0.0f ? 1.0f / d : 0.0f;  // isolated cell: left at 0
+        });
+  });
 }
 
 /// Coarse face weights: half the sum of the fine face weights each coarse face covers.
@@ -84,8 +95,10 @@ void coarsen_weights(const Level& fine, Level& coarse) {
     coarse_faces[a] += 1;
     auto& out = coarse.weight[a];
     out.resize(coarse_faces.prod());
-    const auto& in = fine.weight[a];
     const bool go = coarse_faces.prod() >= kParallelThreshold;
+    const auto fine_weight = [&](std::int64_t f) {
+      return fine.unit_weights ? float(fine.open[a][f]) : fine.weight[a][f];
+    };
 #pragma omp parallel for collapse(2) schedule(static) if (go)
     for (int K = 0; K < coarse_faces.z(); ++K)
       for (int J = 0; J < coarse_faces.y(); ++J)
@@ -105,8 +118,8 @@ void coarsen_weights(const Level& fine, Level& coarse) {
           for (int k = lo[2]; k <= hi[2]; ++k)
             for (int j = lo[1]; j <= hi[1]; ++j)
               for (int i = lo[0]; i <= hi[0]; ++i)
-                sum +=
-                    in[i + std::int64_t(fine_faces.x()) * (j + std::int64_t(fine_faces.y()) * k)];
+                sum += fine_weight(i + std::int64_t(fine_faces.x()) *
+                                           (j + std::int64_t(fine_faces.y()) * k));
           out[I + std::int64_t(coarse_faces.x()) * (J + std::int64_t(coarse_faces.y()) * K)] =
               0.5f * sum;
         }
@@ -117,91 +130,119 @@ void coarsen_weights(const Level& fine, Level& coarse) {
 /// on the cells with (i + j + k) % 2 == color; cells of one color only read the other's.
 void half_sweep(const Level& level, int color) {
   const auto s = detail::stencil_of(level.cells);
-  const float* wx = level.weight[0].data();
-  const float* wy = level.weight[1].data();
-  const float* wz = level.weight[2].data();
   float* x = level.x.data();
   const float* b = level.b.data();
   const float* inverse = level.inverse_diagonal.data();
-#pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
-  for (int k = 0; k < s.nz; ++k)
-    for (int j = 0; j < s.ny; ++j)
-      detail::for_row(
-          s, wx, wy, wz, static_cast<const float*>(x), j, k, (j + k + color) & 1, 2,
-          [&](int, std::int64_t c, float, float sum) { x[c] = (b[c] + sum) * inverse[c]; });
+  with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
+#pragma omp parallel if (parallel(level))
+    {
+      // Whole rows in a vectorised pass into `sum`, then only this colour written back:
+      // its neighbours are all of the other colour, which this half sweep leaves alone.
+      std::vector<float> sum(s.nx), zeros(s.nx, 0.0f);
+#pragma omp for collapse(2) schedule(static)
+      for (int k = 0; k < s.nz; ++k)
+        for (int j = 0; j < s.ny; ++j) {
+          detail::row_sums(s, wx, wy, wz, static_cast<const float*>(x), zeros.data(), j, k,
+                           sum.data(), static_cast<float*>(nullptr));
+          const std::int64_t row = s.cell_row(j, k);
+          for (int i = (j + k + color) & 1; i < s.nx; i += 2)
+            x[row + i] = (b[row + i] + sum[i]) * inverse[row + i];
+        }
+    }
+  });
 }
 
 /// r = b − A x on a level.
 void level_residual(const Level& level) {
   const auto s = detail::stencil_of(level.cells);
-  const float* wx = level.weight[0].data();
-  const float* wy = level.weight[1].data();
-  const float* wz = level.weight[2].data();
   const float* x = level.x.data();
   const float* b = level.b.data();
   float* r = level.r.data();
-#pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
-  for (int k = 0; k < s.nz; ++k)
-    for (int j = 0; j < s.ny; ++j)
-      detail::for_row(s, wx, wy, wz, x, j, k, 0, 1, [&](int, std::int64_t c, float d, float sum) {
-        r[c] = b[c] - (d * x[c] - sum);
-      });
+  with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
+#pragma omp parallel if (parallel(level))
+    {
+      std::vector<float> sum(s.nx), diagonal(s.nx), zeros(s.nx, 0.0f);
+#pragma omp for collapse(2) schedule(static)
+      for (int k = 0; k < s.nz; ++k)
+        for (int j = 0; j < s.ny; ++j) {
+          detail::row_sums(s, wx, wy, wz, x, zeros.data(), j, k, sum.data(), diagonal.data());
+          const std::int64_t row = s.cell_row(j, k);
+          for (int i = 0; i < s.nx; ++i)
+            r[row + i] = b[row + i] - (diagonal[i] * x[row + i] - sum[i]);
+        }
+    }
+  });
 }
 
-/// coarse.b = P^T fine.r.
+/// coarse.b = P^T fine.r, separably: for each coarse row (J, K) the (up to 4 x 4) fine rows
+/// are summed with their y and z weights into one fine-length row, which is then restricted
+/// along x. Same weights as the tensor product, so still exactly P^T.
 void restrict_residual(const Level& fine, const Level& coarse,
                        const std::array<std::vector<Children>, 3>& children) {
   const Eigen::Vector3i n = coarse.cells;
-  const std::int64_t fnx = fine.cells.x(), fplane = fnx * fine.cells.y();
+  const int fnx = fine.cells.x();
+  const std::int64_t fplane = std::int64_t(fnx) * fine.cells.y();
   const float* r = fine.r.data();
   float* b = coarse.b.data();
-#pragma omp parallel for collapse(2) schedule(static) if (parallel(fine))
-  for (int K = 0; K < n.z(); ++K)
-    for (int J = 0; J < n.y(); ++J) {
-      const Children& cz = children[2][K];
-      const Children& cy = children[1][J];
-      for (int I = 0; I < n.x(); ++I) {
-        const Children& cx = children[0][I];
-        float sum = 0.0f;
+#pragma omp parallel if (parallel(fine))
+  {
+    std::vector<float> line(fnx);
+#pragma omp for collapse(2) schedule(static)
+    for (int K = 0; K < n.z(); ++K)
+      for (int J = 0; J < n.y(); ++J) {
+        const Children& cz = children[2][K];
+        const Children& cy = children[1][J];
+        std::fill(line.begin(), line.end(), 0.0f);
         for (int c = 0; c < cz.count; ++c)
           for (int bb = 0; bb < cy.count; ++bb) {
-            const float* row = r + cz.fine[c] * fplane + cy.fine[bb] * fnx;
-            float line = 0.0f;
-            for (int a = 0; a < cx.count; ++a) line += cx.weight[a] * row[cx.fine[a]];
-            sum += cz.weight[c] * cy.weight[bb] * line;
+            const float w = cz.weight[c] * cy.weight[bb];
+            const float* row = r + cz.fine[c] * fplane + std::int64_t(cy.fine[bb]) * fnx;
+            for (int i = 0; i < fnx; ++i) line[i] += w * row[i];
           }
-        b[I + n.x() * (J + std::int64_t(n.y()) * K)] = sum;
+        float* out = b + n.x() * (J + std::int64_t(n.y()) * K);
+        for (int I = 0; I < n.x(); ++I) {
+          const Children& cx = children[0][I];
+          float sum = 0.0f;
+          for (int a = 0; a < cx.count; ++a) sum += cx.weight[a] * line[cx.fine[a]];
+          out[I] = sum;
+        }
       }
-    }
+  }
 }
 
-/// fine.x += P coarse.x.
+/// fine.x += P coarse.x: per fine row, the four coarse rows it interpolates from are
+/// first combined with their y/z weights (vectorised), then interpolated along x.
 void prolongate_add(const Level& coarse, const Level& fine,
                     const std::array<std::vector<Parents>, 3>& parents) {
   const Eigen::Vector3i n = fine.cells;
-  const std::int64_t cnx = coarse.cells.x(), cplane = cnx * coarse.cells.y();
+  const int cnx = coarse.cells.x();
+  const std::int64_t cplane = std::int64_t(cnx) * coarse.cells.y();
   const float* xc = coarse.x.data();
   float* x = fine.x.data();
-#pragma omp parallel for collapse(2) schedule(static) if (parallel(fine))
-  for (int k = 0; k < n.z(); ++k)
-    for (int j = 0; j < n.y(); ++j) {
-      const Parents& pz = parents[2][k];
-      const Parents& py = parents[1][j];
-      const float* rows[4] = {
-          xc + pz.first * cplane + py.first * cnx, xc + pz.first * cplane + py.second * cnx,
-          xc + pz.second * cplane + py.first * cnx, xc + pz.second * cplane + py.second * cnx};
-      const float w[4] = {pz.first_weight * py.first_weight, pz.first_weight * py.second_weight,
-                          pz.second_weight * py.first_weight, pz.second_weight * py.second_weight};
-      float* out = x + std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
-      for (int i = 0; i < n.x(); ++i) {
-        const Parents& px = parents[0][i];
-        float sum = 0.0f;
-        for (int q = 0; q < 4; ++q)
-          sum +=
-              w[q] * (px.first_weight * rows[q][px.first] + px.second_weight * rows[q][px.second]);
-        out[i] += sum;
+#pragma omp parallel if (parallel(fine))
+  {
+    std::vector<float> line(cnx);
+#pragma omp for collapse(2) schedule(static)
+    for (int k = 0; k < n.z(); ++k)
+      for (int j = 0; j < n.y(); ++j) {
+        const Parents& pz = parents[2][k];
+        const Parents& py = parents[1][j];
+        const float* r0 = xc + pz.first * cplane + std::int64_t(py.first) * cnx;
+        const float* r1 = xc + pz.first * cplane + std::int64_t(py.second) * cnx;
+        const float* r2 = xc + pz.second * cplane + std::int64_t(py.first) * cnx;
+        const float* r3 = xc + pz.second * cplane + std::int64_t(py.second) * cnx;
+        const float w0 = pz.first_weight * py.first_weight;
+        const float w1 = pz.first_weight * py.second_weight;
+        const float w2 = pz.second_weight * py.first_weight;
+        const float w3 = pz.second_weight * py.second_weight;
+        for (int I = 0; I < cnx; ++I) line[I] = w0 * r0[I] + w1 * r1[I] + w2 * r2[I] + w3 * r3[I];
+        float* out = x + std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
+        for (int i = 0; i < n.x(); ++i) {
+          const Parents& px = parents[0][i];
+          out[i] += px.first_weight * line[px.first] + px.second_weight * line[px.second];
+        }
       }
-    }
+  }
 }
 
 void zero(std::vector<float>& v, bool go) {
@@ -237,13 +278,30 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
     level.r.resize(n);
   }
   Level& fine = m_levels[0];
+  bool unit = true;
+  for (int a = 0; a < 3 && unit; ++a)
+    for (const double w : A.weights(a))
+      if (w != 0.0 && w != 1.0) {
+        unit = false;
+        break;
+      }
+  fine.unit_weights = unit;
   for (int a = 0; a < 3; ++a) {
     const auto& w = A.weights(a);
-    fine.weight[a].resize(w.size());
     const std::int64_t m = static_cast<std::int64_t>(w.size());
-    float* out = fine.weight[a].data();
+    if (unit) {
+      fine.weight[a].clear();
+      fine.open[a].resize(w.size());
+      std::uint8_t* out = fine.open[a].data();
 #pragma omp parallel for schedule(static) if (m >= kParallelThreshold)
-    for (std::int64_t f = 0; f < m; ++f) out[f] = static_cast<float>(w[f]);
+      for (std::int64_t f = 0; f < m; ++f) out[f] = w[f] != 0.0 ? 1 : 0;
+    } else {
+      fine.open[a].clear();
+      fine.weight[a].resize(w.size());
+      float* out = fine.weight[a].data();
+#pragma omp parallel for schedule(static) if (m >= kParallelThreshold)
+      for (std::int64_t f = 0; f < m; ++f) out[f] = static_cast<float>(w[f]);
+    }
   }
   compute_inverse_diagonal(fine);
   for (size_t l = 1; l < m_levels.size(); ++l) {

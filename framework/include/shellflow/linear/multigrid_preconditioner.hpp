@@ -26,6 +26,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "shellflow/linear/grid_laplacian.hpp"
@@ -61,8 +62,12 @@ class MultigridPreconditioner final : public Preconditioner {
   struct Level {
     Eigen::Vector3i cells = Eigen::Vector3i::Zero();
     std::array<std::vector<float>, 3> weight;  ///< face weights, GridLaplacian layout
-    std::vector<float> inverse_diagonal;       ///< 1 / A_cc, 0 for an isolated cell
-    mutable std::vector<float> x, b, r;        ///< iterate, right-hand side, residual
+    /// With unit_weights (every weight 0 or 1, as on the projection's fine grid) the
+    /// weights are kept as bytes in `open` instead (less memory traffic per sweep).
+    bool unit_weights = false;
+    std::array<std::vector<std::uint8_t>, 3> open;
+    std::vector<float> inverse_diagonal;  ///< 1 / A_cc, 0 for an isolated cell
+    mutable std::vector<float> x, b, r;   ///< iterate, right-hand side, residual
   };
 
  private:
