@@ -169,6 +169,10 @@ void BulletRigidSolver::update_surfaces() {
   }
 }
 
+void BulletRigidSolver::set_colliders(sdk::ShellSet colliders) {
+  m_world->set_colliders(colliders);
+}
+
 void BulletRigidSolver::advance(double t, double dt,
                                 std::span<const sdk::TriangleVectors> triangle_forces) {
   if (!triangle_forces.empty() && triangle_forces.size() != m_surfaces.size())

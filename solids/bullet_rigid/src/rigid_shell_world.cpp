@@ -104,11 +104,36 @@ struct Body {
   }
 };
 
+/// Another solid's surface as a kinematic mesh in world coordinates (identity pose).
+/// Bullet keeps pointers into `indices` and `vertices`: a Collider never moves.
+struct Collider {
+  const void* triangles_id = nullptr;  ///< the surface's triangle array (identity of the mesh)
+  sdk::Positions start;                ///< node positions at the start of advance()
+  sdk::Positions velocities;           ///< node velocities [m/s]
+  std::vector<int> indices;
+  std::vector<btScalar> vertices;
+  std::unique_ptr<btTriangleIndexVertexArray> mesh;
+  std::unique_ptr<btGImpactMeshShape> shape;
+  std::unique_ptr<btRigidBody> rigid;
+
+  /// Nodes at `elapsed` seconds after the start, then the box tree refit.
+  void move_to(double elapsed) {
+    for (Eigen::Index k = 0; k < start.rows(); ++k)
+      for (int c = 0; c < 3; ++c)
+        vertices[static_cast<size_t>(3 * k + c)] =
+            start(k, c) + (velocities.rows() == start.rows() ? elapsed * velocities(k, c) : 0.0);
+    shape->postUpdate();
+    shape->updateBound();
+    rigid->setWorldTransform(btTransform::getIdentity());
+  }
+};
+
 }  // namespace
 
 struct RigidShellWorld::Impl {
   RigidWorldSettings settings;
   std::vector<std::unique_ptr<Body>> bodies;
+  std::vector<std::unique_ptr<Collider>> colliders;
   std::unique_ptr<btDefaultCollisionConfiguration> configuration;
   std::unique_ptr<btStaticPlaneShape> ground_shape;
   std::unique_ptr<btRigidBody> ground;
@@ -149,6 +174,7 @@ struct RigidShellWorld::Impl {
     world->getSolverInfo().m_numIterations = settings.solver_iterations;
     if (ground) world->addRigidBody(ground.get());
     for (auto& b : bodies) world->addRigidBody(b->rigid.get());
+    for (auto& c : colliders) world->addRigidBody(c->rigid.get());
   }
 
   int count_contacts() const {
@@ -238,6 +264,55 @@ RigidShellWorld::RigidShellWorld(const RigidWorldSettings& settings,
 
 RigidShellWorld::~RigidShellWorld() = default;
 
+void RigidShellWorld::set_colliders(sdk::ShellSet surfaces) {
+  auto& impl = *m_impl;
+  std::vector<const sdk::ShellSurface*> meshes;
+  for (const auto& surface : surfaces)
+    if (surface.triangle_count() > 0) meshes.push_back(&surface);
+  bool same = meshes.size() == impl.colliders.size();
+  for (size_t i = 0; same && i < meshes.size(); ++i)
+    same = meshes[i]->triangles.get() == impl.colliders[i]->triangles_id &&
+           meshes[i]->node_count() == impl.colliders[i]->start.rows();
+  if (!same) {
+    impl.release_world();  // the world holds the old colliders' bodies
+    impl.colliders.clear();
+    for (const auto* surface : meshes) {
+      auto c = std::make_unique<Collider>();
+      c->triangles_id = surface->triangles.get();
+      const auto& tris = *surface->triangles;
+      c->indices.resize(static_cast<size_t>(tris.size()));
+      for (Eigen::Index t = 0; t < tris.rows(); ++t)
+        for (int k = 0; k < 3; ++k) c->indices[static_cast<size_t>(3 * t + k)] = tris(t, k);
+      c->vertices.assign(static_cast<size_t>(3 * surface->node_count()), 0.0);
+      c->start = surface->positions;
+      c->mesh = std::make_unique<btTriangleIndexVertexArray>(
+          static_cast<int>(tris.rows()), c->indices.data(), static_cast<int>(3 * sizeof(int)),
+          surface->node_count(), c->vertices.data(), static_cast<int>(3 * sizeof(btScalar)));
+      c->shape = std::make_unique<btGImpactMeshShape>(c->mesh.get());
+      c->shape->setMargin(impl.settings.margin);
+      btRigidBody::btRigidBodyConstructionInfo info(0.0, nullptr, c->shape.get());
+      info.m_friction = 1.0;     // the product rule leaves each body's own coefficient
+      info.m_restitution = 1.0;  // (as for the ground plane)
+      c->rigid = std::make_unique<btRigidBody>(info);
+      c->rigid->setCollisionFlags(c->rigid->getCollisionFlags() |
+                                  btCollisionObject::CF_KINEMATIC_OBJECT);
+      c->rigid->setActivationState(DISABLE_DEACTIVATION);
+      impl.colliders.push_back(std::move(c));
+    }
+  }
+  for (size_t i = 0; i < meshes.size(); ++i) {
+    Collider& c = *impl.colliders[i];
+    c.start = meshes[i]->positions;
+    c.velocities = meshes[i]->velocities;
+    c.move_to(0.0);
+  }
+  if (!same) impl.rebuild_world();
+}
+
+int RigidShellWorld::collider_count() const {
+  return static_cast<int>(m_impl->colliders.size());
+}
+
 int RigidShellWorld::body_count() const {
   return static_cast<int>(m_impl->bodies.size());
 }
@@ -304,6 +379,8 @@ void RigidShellWorld::advance(double t, double dt, std::span<const Wrench> wrenc
   impl.rebuild_world();
   for (int k = 0; k < n; ++k) {
     const double t_next = (k + 1 == n) ? t + dt : t + (k + 1) * h;
+    // Colliders where their nodes are at the start of this substep.
+    for (auto& c : impl.colliders) c->move_to(k * h);
     for (size_t i = 0; i < impl.bodies.size(); ++i) {
       Body& b = *impl.bodies[i];
       if (!b.dynamic()) {

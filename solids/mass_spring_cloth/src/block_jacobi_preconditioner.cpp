@@ -8,7 +8,7 @@ namespace shellflow::cloth {
 
 namespace {
 
-constexpr int kParallelRows = 2048;
+constexpr int kParallelRows = 8192;
 
 }  // namespace
 

@@ -6,7 +6,7 @@ namespace shellflow::cloth {
 
 namespace {
 
-constexpr int kParallelThreshold = 6144;
+constexpr int kParallelThreshold = 24576;
 
 double dot(const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
   const int n = static_cast<int>(u.size());
@@ -18,7 +18,7 @@ double dot(const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
 
 }  // namespace
 
-PcgResult block_pcg(const BlockSparseMatrix& a, const BlockJacobiPreconditioner& m,
+PcgResult block_pcg(const BlockSparseMatrix& a, const BlockPreconditioner& m,
                     const Eigen::VectorXd& b, Eigen::VectorXd& x, double tolerance,
                     int max_iterations) {
   const int n = a.size();

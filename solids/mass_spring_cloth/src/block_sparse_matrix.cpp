@@ -9,7 +9,7 @@ namespace shellflow::cloth {
 namespace {
 
 // Below this many block rows the product runs serially: a parallel region costs more.
-constexpr int kParallelRows = 2048;
+constexpr int kParallelRows = 8192;
 
 }  // namespace
 

@@ -5,15 +5,16 @@
 #include <chrono>
 #include <cmath>
 
-#include "mass_spring_cloth/block_jacobi_preconditioner.hpp"
+#include "mass_spring_cloth/aggregation_preconditioner.hpp"
 #include "mass_spring_cloth/block_pcg.hpp"
 #include "mass_spring_cloth/spring_element.hpp"
+#include "mass_spring_cloth/strain_limiter.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::cloth {
 
 struct ClothSimulator::LinearSolvers {
-  BlockJacobiPreconditioner block_jacobi;
+  AggregationPreconditioner two_level;
   Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> cholmod;
   bool cholmod_analysed = false;
 };
@@ -83,6 +84,7 @@ void ClothSimulator::build_pattern() {
             b.inverse_area * b.weights[k] * b.weights[l];
   m_last_dv = Eigen::VectorXd::Zero(3 * n);
   m_last_h = 0.0;
+  m_linear->two_level.build(m_system);
 }
 
 void ClothSimulator::pin(int k) {
@@ -306,10 +308,11 @@ void ClothSimulator::step(double t, double h) {
     dv = m_last_h > 0.0 ? Eigen::VectorXd(m_last_dv * (h / m_last_h)) : Eigen::VectorXd(known);
     for (int k = 0; k < n; ++k)
       if (fixed[k]) dv.segment<3>(3 * k) = known.segment<3>(3 * k);
-    m_linear->block_jacobi.compute(m_system);
-    const auto solve = block_pcg(m_system, m_linear->block_jacobi, rhs, dv, m_solver.cg_tolerance,
+    m_linear->two_level.compute(m_system, fixed);
+    const auto solve = block_pcg(m_system, m_linear->two_level, rhs, dv, m_solver.cg_tolerance,
                                  m_solver.cg_max_iterations);
     m_stats.cg_iterations += solve.iterations;
+    m_stats.coarse_unknowns = 3 * m_linear->two_level.aggregate_count();
     m_stats.cg_error = std::max(m_stats.cg_error, solve.relative_residual);
   } else {
     auto& lin = *m_linear;
@@ -337,7 +340,19 @@ void ClothSimulator::step(double t, double h) {
 
   // Collisions: analytic colliders, then other solids' surfaces and self-collision.
   std::vector<Eigen::Vector3d> pop(n, Eigen::Vector3d::Zero());
-  if (!m_colliders.empty()) resolve_collider_contacts(m_x, v1, h, pop);
+  std::vector<Eigen::Vector3d> contact_normal(n, Eigen::Vector3d::Zero());
+  if (!m_colliders.empty()) contact_normal = resolve_collider_contacts(m_x, v1, h, pop);
+  // Strain limiting before the self-collision pass, which has the last word on velocities;
+  // constrained nodes do not move in it, nodes on a collider only slide along it.
+  if (m_solver.max_strain > 0.0) {
+    std::vector<double> inverse_mass(n, 0.0);
+    for (int k = 0; k < n; ++k)
+      if (!fixed[k]) inverse_mass[k] = 1.0 / m_model.masses[k];
+    m_stats.strain_corrections +=
+        limit_strain(m_model, m_x, v1, inverse_mass, contact_normal, h, m_solver.max_strain,
+                     m_solver.strain_limit_sweeps)
+            .corrections;
+  }
   const bool obstacles = !m_obstacle_triangles.empty();
   if (m_collision.self_collision || obstacles) {
     if (m_collision_topology_dirty) {
@@ -367,6 +382,8 @@ void ClothSimulator::step(double t, double h) {
     m_stats.collisions.proximity_contacts += c.proximity_contacts;
     m_stats.collisions.ccd_collisions += c.ccd_collisions;
     m_stats.collisions.impact_zones += c.impact_zones;
+    m_stats.collisions.candidate_pairs = c.candidate_pairs;
+    m_stats.collisions.broad_phases += c.broad_phases;
     for (int k = 0; k < n; ++k) v1.segment<3>(3 * k) = v[k];
   }
 
@@ -378,11 +395,12 @@ void ClothSimulator::step(double t, double h) {
   if (!m_x.allFinite()) throw NumericalError("mass_spring_cloth: non-finite node positions");
 }
 
-void ClothSimulator::resolve_collider_contacts(const Eigen::VectorXd& x0, Eigen::VectorXd& v,
-                                               double h, std::vector<Eigen::Vector3d>& pop) {
+std::vector<Eigen::Vector3d> ClothSimulator::resolve_collider_contacts(
+    const Eigen::VectorXd& x0, Eigen::VectorXd& v, double h, std::vector<Eigen::Vector3d>& pop) {
   const int n = node_count();
   const double thickness = m_collision.thickness, mu = m_collision.friction;
   int contacts = 0;
+  std::vector<Eigen::Vector3d> touching(n, Eigen::Vector3d::Zero());
 #pragma omp parallel for schedule(static) reduction(+ : contacts) if (n > kParallelThreshold)
   for (int k = 0; k < n; ++k) {
     if (m_constraint[k] != kFree) continue;
@@ -393,6 +411,7 @@ void ClothSimulator::resolve_collider_contacts(const Eigen::VectorXd& x0, Eigen:
       const double phi = collider.signed_distance(node(x0, k) + h * vk, normal);
       if (phi >= thickness) continue;
       touched = true;
+      touching[k] = normal;
       // Inelastic contact with Coulomb friction on the node velocity (Bridson 2002 §7.3).
       const double vn = vk.dot(normal);
       if (vn < 0.0) {
@@ -414,6 +433,7 @@ void ClothSimulator::resolve_collider_contacts(const Eigen::VectorXd& x0, Eigen:
     v.segment<3>(3 * k) = vk;
   }
   m_stats.collider_contacts += contacts;
+  return touching;
 }
 
 double ClothSimulator::kinetic_energy() const {

@@ -24,7 +24,7 @@ constexpr double kRepulsionFraction = 0.1;
 constexpr int kMaxImpactZoneIterations = 100;
 // Candidates are found for the motion padded by this many thicknesses, and reused while
 // no node's end position has moved farther than that (per coordinate).
-constexpr double kCandidateMarginThicknesses = 1.0;
+constexpr double kCandidateMarginThicknesses = 0.25;
 // Below this many pairs a loop runs serially: a parallel region costs more than it saves.
 constexpr long kParallelThreshold = 4096;
 
@@ -74,7 +74,8 @@ void CollisionSolver::set_parameters(double thickness, double friction, int ccd_
   m_ccd_passes = ccd_passes;
 }
 
-void CollisionSolver::update_candidates(const Vectors& x0, const Vectors& v, double h) {
+void CollisionSolver::update_candidates(const Vectors& x0, const Vectors& v, double h,
+                                        CollisionStatistics& stats) {
   const int n = static_cast<int>(x0.size());
   const double margin = kCandidateMarginThicknesses * m_thickness;
   if (m_candidates_valid && static_cast<int>(m_candidate_motion.size()) == n) {
@@ -94,6 +95,9 @@ void CollisionSolver::update_candidates(const Vectors& x0, const Vectors& v, dou
   // candidates while each node stays within the margin of its end position.
   m_broad_phase.find(x0, x1, m_thickness + 2.0 * margin, m_candidates);
   m_candidates_valid = true;
+  ++stats.broad_phases;
+  stats.candidate_pairs =
+      static_cast<int>(m_candidates.point_triangle.size() + m_candidates.edge_edge.size());
 }
 
 void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
@@ -115,6 +119,10 @@ void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
           inverse_mass[tri[2]] == 0.0)
         continue;
       const geometry::TriangleCorners corners{x0[tri[0]], x0[tri[1]], x0[tri[2]]};
+      // Cheap rejection: the triangle's box at the start, inflated, misses the point.
+      const geometry::Aabb box(corners[0].cwiseMin(corners[1]).cwiseMin(corners[2]).array() - thickness,
+                               corners[0].cwiseMax(corners[1]).cwiseMax(corners[2]).array() + thickness);
+      if (!box.contains(x0[k])) continue;
       const auto closest = geometry::closest_point_on_triangle(x0[k], corners);
       const Eigen::Vector3d d = x0[k] - closest.point;
       const double dist = d.norm();
@@ -142,7 +150,13 @@ void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
       if (inverse_mass[ea[0]] == 0.0 && inverse_mass[ea[1]] == 0.0 &&
           inverse_mass[eb[0]] == 0.0 && inverse_mass[eb[1]] == 0.0)
         continue;
-      const auto closest = geometry::closest_segment_segment(x0[ea[0]], x0[ea[1]], x0[eb[0]], x0[eb[1]]);
+      // Cheap rejection: the edges' boxes at the start, inflated, do not overlap.
+      const geometry::Aabb box_a(x0[ea[0]].cwiseMin(x0[ea[1]]).array() - thickness,
+                                 x0[ea[0]].cwiseMax(x0[ea[1]]).array() + thickness);
+      const geometry::Aabb box_b(x0[eb[0]].cwiseMin(x0[eb[1]]), x0[eb[0]].cwiseMax(x0[eb[1]]));
+      if (!box_a.overlaps(box_b)) continue;
+      const auto closest =
+          geometry::closest_segment_segment(x0[ea[0]], x0[ea[1]], x0[eb[0]], x0[eb[1]]);
       const double s = closest.s, u = closest.t;
       // Point–triangle pairs cover the end points; edge pairs only count in their interiors.
       if (s <= 0.0 || s >= 1.0 || u <= 0.0 || u >= 1.0) continue;
@@ -291,7 +305,7 @@ CollisionStatistics CollisionSolver::resolve(const Vectors& x0, Vectors& v,
   m_candidates_valid = false;  // a new step: new start positions
 
   // 1. Proximity at the start of the step.
-  update_candidates(x0, v, h);
+  update_candidates(x0, v, h, stats);
   std::vector<Contact> contacts;
   proximity_contacts(x0, v, inverse_mass, h, contacts);
   for (const auto& c : contacts) apply(c, v, inverse_mass, m_friction);
@@ -301,7 +315,7 @@ CollisionStatistics CollisionSolver::resolve(const Vectors& x0, Vectors& v,
   std::vector<char> active(n, 1);
   bool colliding = false;
   for (int pass = 0; pass < m_ccd_passes; ++pass) {
-    update_candidates(x0, v, h);
+    update_candidates(x0, v, h, stats);
     ccd_contacts(x0, v, inverse_mass, h, pass == 0 ? nullptr : &active, contacts);
     stats.ccd_collisions += static_cast<int>(contacts.size());
     colliding = !contacts.empty();
@@ -318,7 +332,7 @@ CollisionStatistics CollisionSolver::resolve(const Vectors& x0, Vectors& v,
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);
   for (int iteration = 0; iteration < kMaxImpactZoneIterations; ++iteration) {
-    update_candidates(x0, v, h);
+    update_candidates(x0, v, h, stats);
     ccd_contacts(x0, v, inverse_mass, h, nullptr, contacts);
     if (contacts.empty()) break;
     stats.ccd_collisions += static_cast<int>(contacts.size());

@@ -78,7 +78,8 @@ sdk::Schema MassSpringCloth::schema() {
           Schema::object("time integration")
               .field("linear_solver", Schema::string("cg")
                                           .one_of({"cg", "cholmod"})
-                                          .doc("Jacobi-preconditioned CG or CHOLMOD Cholesky"))
+                                          .doc("CG with a two-level (block Jacobi + aggregation) "
+                                               "preconditioner, or CHOLMOD Cholesky"))
               .field("cg_tolerance",
                      Schema::number(s.cg_tolerance).min(0.0, false).doc("relative residual"))
               .field("cg_max_iterations", Schema::integer(s.cg_max_iterations).min(1))
@@ -86,7 +87,10 @@ sdk::Schema MassSpringCloth::schema() {
                      Schema::integer(s.min_substeps).min(1).doc("substeps per advance, at least"))
               .field(
                   "max_substep",
-                  Schema::number(s.max_substep).min(0.0, false).unit("s").doc("longest substep")))
+                  Schema::number(s.max_substep).min(0.0, false).unit("s").doc("longest substep"))
+              .field("max_strain",
+                     Schema::number(s.max_strain).min(0.0).doc(
+                         "strain limit of the structural springs (Provot 1995); 0 switches it off")))
       .field(
           "collision",
           Schema::object("contact")
@@ -148,6 +152,7 @@ MassSpringCloth::MassSpringCloth(const nlohmann::json& params, const sdk::Contex
   s.cg_max_iterations = value_or(solver, "cg_max_iterations", s.cg_max_iterations);
   s.min_substeps = value_or(solver, "substeps", s.min_substeps);
   s.max_substep = value_or(solver, "max_substep", s.max_substep);
+  s.max_strain = value_or(solver, "max_strain", s.max_strain);
 
   ClothModel model = build_cloth_model(mesh.positions, mesh.triangles, m);
   CollisionSettings c;

@@ -232,6 +232,53 @@ TEST(RigidShellWorld, KinematicPlateLiftsABoxResting) {
   EXPECT_LT(x.col(1).minCoeff(), plate_height + 0.05);  // resting on it
 }
 
+/// Another solid's surface as the runtime hands it to set_colliders(): a 2 m square plate
+/// (a 5 x 5 grid) at rest in the plane y = 0.
+sdk::ShellSurface plate_surface() {
+  auto mesh = geometry::make_grid(2.0, 2.0, 5, 5, geometry::GridPattern::Alternating);
+  geometry::apply_transform(placed({0, 0, 0}, -std::numbers::pi / 2, {1, 0, 0}), mesh);
+  sdk::ShellSurface plate;
+  plate.name = "cloth/surface";
+  plate.positions = mesh.positions;
+  plate.velocities = sdk::Positions::Zero(mesh.positions.rows(), 3);
+  plate.triangles = std::make_shared<sdk::Triangles>(mesh.triangles);
+  return plate;
+}
+
+// Lowest node height of a box shell dropped from 0.3 m, after 2 s, with or without
+// another solid's plate at y = 0 given through set_colliders() (no ground plane).
+double box_height_after_drop(bool with_plate, double* speed = nullptr) {
+  RigidWorldSettings s;
+  s.max_substep = kSubstep;
+  RigidShellWorld world(s, {body("box", geometry::make_box({0.4, 0.2, 0.3}, 2), placed({0, 0.3, 0}))});
+  const std::vector<sdk::ShellSurface> colliders{plate_surface()};
+  double t = 0.0;
+  for (int f = 0; f < 48; ++f) {
+    if (with_plate) world.set_colliders(colliders);
+    run_frames(world, t, 1);
+  }
+  if (speed) *speed = world.state(0).velocity.norm();
+  sdk::Positions x;
+  world.node_positions(0, x);
+  return x.col(1).minCoeff();
+}
+
+TEST(RigidShellWorld, BoxShellRestsOnAnotherSolidsSurface) {
+  // The plate is a kinematic collider mesh: the box lands on it and stays above it,
+  // resting within its contact skin (two margins: the box's and the plate's).
+  double speed = 0.0;
+  const double lowest = box_height_after_drop(true, &speed);
+  EXPECT_GT(lowest, 0.0);
+  EXPECT_LT(lowest, 0.05);
+  // At rest to the velocity error of resting contact in single substeps, g h = 0.04 m/s.
+  EXPECT_LT(speed, 0.05);
+}
+
+TEST(RigidShellWorld, BoxShellFallsThroughWithoutColliders) {
+  // The control case: no collider, no ground: 2 s of free fall from 0.3 m ends ~19 m lower.
+  EXPECT_LT(box_height_after_drop(false), -10.0);
+}
+
 TEST(RigidShellWorld, BoxShellSettlesOnTheGroundAtRest) {
   // A closed box shell dropped tumbling onto the ground (friction 0.9, restitution 0.2)
   // comes to rest on a face: over the third second (after N = 48 frames of 1/24 s) every

@@ -33,6 +33,7 @@ TEST(ClothPhysics, HangingChainReachesAnalyticStaticStretch) {
   const double m = 0.05, k = 40.0, rest = 0.1;
   SolverSettings solver;
   solver.cg_tolerance = 1e-12;
+  solver.max_strain = 0.0;  // the springs' own law is under test (strains up to 120 %)
   CollisionSettings collision;
   collision.self_collision = false;
   ClothSimulator sim(hanging_chain(n, m, k, 1.0, rest), solver, collision, kGravity);
@@ -146,18 +147,16 @@ TEST(ClothPhysics, UndampedImplicitEulerNeverGainsEnergy) {
 }
 
 TEST(ClothPhysics, ClothPinnedAtTwoCornersIsStableAtFrameSteps) {
-  // 32 x 32 nodes (the issue asks 64 x 64; that runs ~25 s of CPU here, too slow for the
-  // suite), 1 m square, two top corners pinned, dt = 1/24 s, 2 s.
-  const int n = 32;
+  // 64 x 64 nodes, 1 m square, two top corners pinned, dt = 1/24 s, 2 s.
+  const int n = 64;
   const auto mesh = testing::hanging_grid(1.0, 1.0, n, n);
   ClothMaterial material;
   material.surface_density = 0.1;
   material.stretch_stiffness = 2e4;
   material.stretch_damping = 20.0;
+  // The default solver: CG with the two-level preconditioner (the system's condition
+  // number is ~1e6 at this stiffness and step; the coarse space carries the stiff modes).
   SolverSettings solver;
-  // CHOLMOD: at this stiffness and step the system's condition number is ~1e6 and CG
-  // needs its full iteration budget; the direct solve keeps the test fast.
-  solver.linear_solver = LinearSolverKind::Cholmod;
   CollisionSettings collision;
   collision.self_collision = false;
   auto sim = testing::make_simulator(mesh, material, solver, collision);

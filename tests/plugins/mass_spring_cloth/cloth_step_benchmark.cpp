@@ -51,6 +51,9 @@ void BM_ClothStep(benchmark::State& state) {
   state.counters["assembly_ms"] = 1e3 * assembly / steps;
   state.counters["solve_ms"] = 1e3 * solve / steps;
   state.counters["collision_ms"] = 1e3 * collision_time / steps;
+  state.counters["candidate_pairs"] = sim.statistics().collisions.candidate_pairs;
+  state.counters["broad_phases"] = sim.statistics().collisions.broad_phases;
+  state.counters["coarse_unknowns"] = sim.statistics().coarse_unknowns;
   state.counters["triangles"] = static_cast<double>(mesh.triangles.rows());
 }
 

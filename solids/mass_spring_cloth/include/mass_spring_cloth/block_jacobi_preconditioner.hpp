@@ -12,13 +12,21 @@
 
 namespace shellflow::cloth {
 
-class BlockJacobiPreconditioner {
+/// z = M^{-1} r for the block PCG (block_pcg.hpp); M symmetric positive definite.
+class BlockPreconditioner {
+ public:
+  virtual ~BlockPreconditioner() = default;
+  virtual int size() const = 0;
+  /// z = M^{-1} r, z resized.
+  virtual void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const = 0;
+};
+
+class BlockJacobiPreconditioner final : public BlockPreconditioner {
  public:
   /// Inverts the diagonal blocks of `a` (throws NumericalError if one is singular).
   void compute(const BlockSparseMatrix& a);
-  int size() const { return 3 * static_cast<int>(m_inverse.size()); }
-  /// z = M^{-1} r, z resized.
-  void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const;
+  int size() const override { return 3 * static_cast<int>(m_inverse.size()); }
+  void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;
 
  private:
   std::vector<Eigen::Matrix3d> m_inverse;

@@ -1,6 +1,6 @@
 #pragma once
 // Preconditioned conjugate gradients (Hestenes & Stiefel 1952; Saad 2003, Alg. 9.1) on
-// the cloth's block system with the block-Jacobi preconditioner, with OpenMP vector
+// the cloth's block system with a block preconditioner, with OpenMP vector
 // kernels and a fused product-and-dot. Stops when |b - A x| / |b| <= tolerance,
 // confirmed on the true residual. `x` is the initial guess on entry (the warm start).
 
@@ -16,7 +16,7 @@ struct PcgResult {
   double relative_residual = 0.0;  ///< |b - A x| / |b| of the returned x (0 when b = 0)
 };
 
-PcgResult block_pcg(const BlockSparseMatrix& a, const BlockJacobiPreconditioner& m,
+PcgResult block_pcg(const BlockSparseMatrix& a, const BlockPreconditioner& m,
                     const Eigen::VectorXd& b, Eigen::VectorXd& x, double tolerance,
                     int max_iterations);
 

@@ -30,6 +30,10 @@ struct SolverSettings {
   /// default: the (1 - L0/L) term is clamped at zero so CG sees an SPD matrix
   /// (Choi and Ko 2002); tests switch it on to compare with finite differences.
   bool exact_jacobian = false;
+  /// Largest structural strain left at the end of a step (strain_limiter.hpp; Provot 1995
+  /// used 10%); 0 switches the limiter off.
+  double max_strain = 0.1;
+  int strain_limit_sweeps = 40;  ///< Gauss–Seidel sweeps of the limiter, at most
 };
 
 struct CollisionSettings {

@@ -29,7 +29,9 @@ struct StepStatistics {
   int substeps = 0;
   int cg_iterations = 0;           ///< summed over the substeps of the last advance()
   double cg_error = 0.0;           ///< largest relative residual of those solves
+  int coarse_unknowns = 0;         ///< size of the CG preconditioner's coarse system
   int collider_contacts = 0;       ///< node–analytic-collider contacts (summed over substeps)
+  int strain_corrections = 0;      ///< spring corrections of the strain limiter
   CollisionStatistics collisions;  ///< summed over substeps
   // Wall-clock time of the parts of the substeps [s], for benchmarks and profiling.
   double assembly_seconds = 0.0;   ///< forces, Jacobians, system matrix, constraints
@@ -91,8 +93,9 @@ class ClothSimulator {
   void build_pattern();
   /// Forces, df/dx v and the system M - h df/dv - h^2 df/dx into m_system, m_force, m_kv.
   void assemble(double h);
-  void resolve_collider_contacts(const Eigen::VectorXd& x0, Eigen::VectorXd& v, double h,
-                                 std::vector<Eigen::Vector3d>& pop);
+  /// Returns per node the outward normal of the collider it touched (zero: none).
+  std::vector<Eigen::Vector3d> resolve_collider_contacts(const Eigen::VectorXd& x0, Eigen::VectorXd& v,
+                                              double h, std::vector<Eigen::Vector3d>& pop);
 
   ClothModel m_model;
   SolverSettings m_solver;

@@ -31,6 +31,8 @@ struct CollisionStatistics {
   int proximity_contacts = 0;
   int ccd_collisions = 0;  ///< pairs found by the continuous passes (all passes)
   int impact_zones = 0;    ///< zones left after the impact-zone loop
+  int candidate_pairs = 0;  ///< point–triangle + edge–edge pairs from the last broad phase
+  int broad_phases = 0;     ///< broad-phase searches (the candidates are reused in between)
 };
 
 class CollisionSolver {
@@ -61,7 +63,7 @@ class CollisionSolver {
 
   /// Candidates for moving from x0 by h * v, refreshed only when some node has moved
   /// farther than the margin from the motion they were found for.
-  void update_candidates(const Vectors& x0, const Vectors& v, double h);
+  void update_candidates(const Vectors& x0, const Vectors& v, double h, CollisionStatistics& stats);
   void proximity_contacts(const Vectors& x0, const Vectors& v,
                           const std::vector<double>& inverse_mass, double h,
                           std::vector<Contact>& out) const;

@@ -36,6 +36,8 @@ class BulletRigidSolver final : public sdk::SolidSolver {
   ~BulletRigidSolver() override;
 
   std::span<const sdk::ShellSurface> surfaces() const override;
+  /// Other solids' surfaces: kinematic meshes the dynamic shells collide with.
+  void set_colliders(sdk::ShellSet colliders) override;
   void advance(double t, double dt, std::span<const sdk::TriangleVectors> triangle_forces) override;
   void save(sdk::StateWriter& out) const override;
   void restore(sdk::StateReader& in) override;

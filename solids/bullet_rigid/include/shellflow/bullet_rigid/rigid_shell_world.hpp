@@ -13,6 +13,14 @@
 // writes. Contact warm starting therefore carries over between the substeps of one
 // advance() but not from one advance() to the next.
 //
+// Other solids' surfaces (a cloth, another solver's shells) enter through set_colliders()
+// as kinematic triangle meshes (btGImpactMeshShape in world coordinates, identity pose):
+// the dynamic bodies collide with them, they do not feel the bodies (one-way; the other
+// solver sees this solver's shells through its own set_colliders()). Their nodes move
+// linearly with the given node velocities over the substeps of an advance() and the
+// GImpact box tree is refit each substep; Bullet sees each collider as momentarily at
+// rest (a deforming mesh has no single rigid velocity).
+//
 // Bullet headers stay in the .cpp (pimpl).
 
 #include <Eigen/Core>
@@ -55,6 +63,12 @@ class RigidShellWorld {
   /// Node positions R p + c and velocities v + ω × (x − c) of a body's mesh, now.
   void node_positions(int body, sdk::Positions& out) const;
   void node_velocities(int body, sdk::Positions& out) const;
+
+  /// Other solids' surfaces at the start of the next advance() (the SolidSolver's
+  /// set_colliders()); an empty set removes them. Meshes are rebuilt only when the set of
+  /// triangle arrays changes; positions and velocities are taken every call.
+  void set_colliders(sdk::ShellSet colliders);
+  int collider_count() const;
 
   /// Advances from t to t + dt in ceil(dt / max_substep) equal Bullet steps. `wrenches`
   /// holds one external wrench per body (about its centre of mass, held constant over the
