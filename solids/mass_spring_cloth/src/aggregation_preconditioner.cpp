@@ -17,7 +17,8 @@ void AggregationPreconditioner::build(const BlockSparseMatrix& a) {
     for (int b = a.row_begin(i); b < a.row_end(i) && all_free; ++b)
       all_free = m_base_aggregate[a.column(b)] < 0;
     if (!all_free) continue;
-    for (int b = a.row_begin(i); b < a.row_end(i); ++b) m_base_aggregate[a.column(b)] = m_aggregate_count;
+    for (int b = a.row_begin(i); b < a.row_end(i); ++b)
+      m_base_aggregate[a.column(b)] = m_aggregate_count;
     ++m_aggregate_count;
   }
   for (int i = 0; i < n; ++i) {
@@ -49,7 +50,8 @@ void AggregationPreconditioner::build(const BlockSparseMatrix& a) {
   m_analysed = false;
 }
 
-void AggregationPreconditioner::compute(const BlockSparseMatrix& a, const std::vector<char>& fixed) {
+void AggregationPreconditioner::compute(const BlockSparseMatrix& a,
+                                        const std::vector<char>& fixed) {
   const int n = a.node_count();
   m_jacobi.compute(a);
   m_free_count.assign(m_aggregate_count, 0);

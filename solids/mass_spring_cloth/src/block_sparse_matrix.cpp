@@ -39,7 +39,8 @@ void BlockSparseMatrix::build(int node_count, const std::vector<std::pair<int, i
 }
 
 int BlockSparseMatrix::find(int i, int j) const {
-  const auto begin = m_columns.begin() + m_row_start[i], end = m_columns.begin() + m_row_start[i + 1];
+  const auto begin = m_columns.begin() + m_row_start[i],
+             end = m_columns.begin() + m_row_start[i + 1];
   const auto found = std::lower_bound(begin, end, j);
   SHELLFLOW_ASSERT(found != end && *found == j);
   return static_cast<int>(found - m_columns.begin());

@@ -348,10 +348,9 @@ void ClothSimulator::step(double t, double h) {
     std::vector<double> inverse_mass(n, 0.0);
     for (int k = 0; k < n; ++k)
       if (!fixed[k]) inverse_mass[k] = 1.0 / m_model.masses[k];
-    m_stats.strain_corrections +=
-        limit_strain(m_model, m_x, v1, inverse_mass, contact_normal, h, m_solver.max_strain,
-                     m_solver.strain_limit_sweeps)
-            .corrections;
+    m_stats.strain_corrections += limit_strain(m_model, m_x, v1, inverse_mass, contact_normal, h,
+                                               m_solver.max_strain, m_solver.strain_limit_sweeps)
+                                      .corrections;
   }
   const bool obstacles = !m_obstacle_triangles.empty();
   if (m_collision.self_collision || obstacles) {

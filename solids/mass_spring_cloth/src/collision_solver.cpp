@@ -120,8 +120,9 @@ void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
         continue;
       const geometry::TriangleCorners corners{x0[tri[0]], x0[tri[1]], x0[tri[2]]};
       // Cheap rejection: the triangle's box at the start, inflated, misses the point.
-      const geometry::Aabb box(corners[0].cwiseMin(corners[1]).cwiseMin(corners[2]).array() - thickness,
-                               corners[0].cwiseMax(corners[1]).cwiseMax(corners[2]).array() + thickness);
+      const geometry::Aabb box(
+          corners[0].cwiseMin(corners[1]).cwiseMin(corners[2]).array() - thickness,
+          corners[0].cwiseMax(corners[1]).cwiseMax(corners[2]).array() + thickness);
       if (!box.contains(x0[k])) continue;
       const auto closest = geometry::closest_point_on_triangle(x0[k], corners);
       const Eigen::Vector3d d = x0[k] - closest.point;
@@ -147,8 +148,8 @@ void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
       const auto [e, f] = ee_pairs[p];
       const auto& ea = edges[e];
       const auto& eb = edges[f];
-      if (inverse_mass[ea[0]] == 0.0 && inverse_mass[ea[1]] == 0.0 &&
-          inverse_mass[eb[0]] == 0.0 && inverse_mass[eb[1]] == 0.0)
+      if (inverse_mass[ea[0]] == 0.0 && inverse_mass[ea[1]] == 0.0 && inverse_mass[eb[0]] == 0.0 &&
+          inverse_mass[eb[1]] == 0.0)
         continue;
       // Cheap rejection: the edges' boxes at the start, inflated, do not overlap.
       const geometry::Aabb box_a(x0[ea[0]].cwiseMin(x0[ea[1]]).array() - thickness,
@@ -218,8 +219,9 @@ void CollisionSolver::ccd_contacts(const Vectors& x0, const Vectors& v,
       std::array<Eigen::Vector3d, 4> x, d;
       motion(nodes, x, d);
       // |det| = 2 area * distance from the plane: the tolerance is eps in distance.
-      const double area2 = std::max((x[2] - x[1]).cross(x[3] - x[1]).norm(),
-                                    (x[2] + d[2] - x[1] - d[1]).cross(x[3] + d[3] - x[1] - d[1]).norm());
+      const double area2 =
+          std::max((x[2] - x[1]).cross(x[3] - x[1]).norm(),
+                   (x[2] + d[2] - x[1] - d[1]).cross(x[3] + d[3] - x[1] - d[1]).norm());
       const auto roots = coplanarity_times(x, d, eps * area2);
       for (int r = 0; r < roots.count; ++r) {
         std::array<Eigen::Vector3d, 4> y;
@@ -245,8 +247,9 @@ void CollisionSolver::ccd_contacts(const Vectors& x0, const Vectors& v,
       motion(nodes, x, d);
       // |det| = |e1 x e2| * distance between the lines; the floor keeps near-parallel
       // edges (whose det is round-off) from reporting every time.
-      const double cross = std::max((x[1] - x[0]).cross(x[3] - x[2]).norm(),
-                                    (x[1] + d[1] - x[0] - d[0]).cross(x[3] + d[3] - x[2] - d[2]).norm());
+      const double cross =
+          std::max((x[1] - x[0]).cross(x[3] - x[2]).norm(),
+                   (x[1] + d[1] - x[0] - d[0]).cross(x[3] + d[3] - x[2] - d[2]).norm());
       const double lengths = (x[1] - x[0]).norm() * (x[3] - x[2]).norm();
       const auto roots = coplanarity_times(x, d, eps * std::max(cross, 1e-6 * lengths));
       for (int r = 0; r < roots.count; ++r) {

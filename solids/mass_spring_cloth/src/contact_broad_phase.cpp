@@ -80,8 +80,8 @@ void ContactBroadPhase::find(const Vectors& a, const Vectors& b, double distance
   {
 #pragma omp for schedule(static)
     for (int k = 0; k < node_count; ++k)
-      m_node_boxes[k] = geometry::Aabb(a[k].cwiseMin(b[k]).array() - pad,
-                                       a[k].cwiseMax(b[k]).array() + pad);
+      m_node_boxes[k] =
+          geometry::Aabb(a[k].cwiseMin(b[k]).array() - pad, a[k].cwiseMax(b[k]).array() + pad);
 #pragma omp for schedule(static) nowait
     for (int e = 0; e < edge_count; ++e) {
       m_edge_boxes[e] = m_node_boxes[m_edges[e][0]];

@@ -85,12 +85,12 @@ sdk::Schema MassSpringCloth::schema() {
               .field("cg_max_iterations", Schema::integer(s.cg_max_iterations).min(1))
               .field("substeps",
                      Schema::integer(s.min_substeps).min(1).doc("substeps per advance, at least"))
-              .field(
-                  "max_substep",
-                  Schema::number(s.max_substep).min(0.0, false).unit("s").doc("longest substep"))
-              .field("max_strain",
-                     Schema::number(s.max_strain).min(0.0).doc(
-                         "strain limit of the structural springs (Provot 1995); 0 switches it off")))
+              .field("max_substep",
+                     Schema::number(s.max_substep).min(0.0, false).unit("s").doc("longest substep"))
+              .field("max_strain", Schema::number(s.max_strain)
+                                       .min(0.0)
+                                       .doc("strain limit of the structural springs (Provot 1995); "
+                                            "0 switches it off")))
       .field(
           "collision",
           Schema::object("contact")

@@ -7,6 +7,17 @@ StrainLimitStatistics limit_strain(const ClothModel& model, const Eigen::VectorX
                                    const std::vector<Eigen::Vector3d>& contact_normal, double h,
                                    double max_strain, int max_sweeps) {
   StrainLimitStatistics stats;
+  // Most steps stretch no spring past the limit: find that out in parallel first.
+  const double squared_limit = (1.0 + max_strain) * (1.0 + max_strain);
+  bool any = false;
+#pragma omp parallel for schedule(static) reduction(|| : any) if (model.structural_count > 16384)
+  for (int e = 0; e < model.structural_count; ++e) {
+    const auto& s = model.springs[e];
+    const Eigen::Vector3d d = (x.segment<3>(3 * s.i) + h * v.segment<3>(3 * s.i)) -
+                              (x.segment<3>(3 * s.j) + h * v.segment<3>(3 * s.j));
+    any = any || d.squaredNorm() > squared_limit * s.rest_length * s.rest_length;
+  }
+  if (!any) return stats;
   const auto change = [&](int k, const Eigen::Vector3d& dv) {
     const Eigen::Vector3d& n = contact_normal[k];
     const double into = dv.dot(n);
@@ -19,9 +30,8 @@ StrainLimitStatistics limit_strain(const ClothModel& model, const Eigen::VectorX
       const auto& s = model.springs[e];
       const double wi = inverse_mass[s.i], wj = inverse_mass[s.j];
       if (wi + wj == 0.0) continue;
-      const Eigen::Vector3d d =
-          (x.segment<3>(3 * s.i) + h * v.segment<3>(3 * s.i)) -
-          (x.segment<3>(3 * s.j) + h * v.segment<3>(3 * s.j));
+      const Eigen::Vector3d d = (x.segment<3>(3 * s.i) + h * v.segment<3>(3 * s.i)) -
+                                (x.segment<3>(3 * s.j) + h * v.segment<3>(3 * s.j));
       const double length = d.norm(), limit = (1.0 + max_strain) * s.rest_length;
       if (length <= limit) continue;
       // Shorten to the limit along the spring; the excess shared by inverse mass.

@@ -250,7 +250,8 @@ sdk::ShellSurface plate_surface() {
 double box_height_after_drop(bool with_plate, double* speed = nullptr) {
   RigidWorldSettings s;
   s.max_substep = kSubstep;
-  RigidShellWorld world(s, {body("box", geometry::make_box({0.4, 0.2, 0.3}, 2), placed({0, 0.3, 0}))});
+  RigidShellWorld world(s,
+                        {body("box", geometry::make_box({0.4, 0.2, 0.3}, 2), placed({0, 0.3, 0}))});
   const std::vector<sdk::ShellSurface> colliders{plate_surface()};
   double t = 0.0;
   for (int f = 0; f < 48; ++f) {

@@ -2,12 +2,14 @@
 // The cloth solver proper: implicit backward Euler on a mass-spring cloth (Baraff and
 // Witkin, "Large Steps in Cloth Simulation", SIGGRAPH 1998, §3 eq. (6)):
 //   (M - h df/dv - h^2 df/dx) dv = h (f0 + h df/dx v0),  x1 = x0 + h (v0 + dv),
-// one linearised step per substep, solved by block-Jacobi preconditioned CG (default) or a
+// one linearised step per substep, solved by CG with a two-level preconditioner (block
+// Jacobi + an aggregation coarse space, aggregation_preconditioner.hpp; default) or a
 // CHOLMOD supernodal Cholesky. The system lives in a fixed block pattern refilled in place
 // each step (block_sparse_matrix.hpp); CG starts from the last step's velocity change,
 // scaled to the new step, which for smooth motion is most of the answer. Pinned and
-// path-driven nodes are eliminated from the system (their dv is known). After the solve, analytic colliders, other solids' surfaces and the
-// cloth itself are handled by velocity impulses (collision_solver.hpp).
+// path-driven nodes are eliminated from the system (their dv is known). After the solve,
+// analytic colliders, the strain limiter (strain_limiter.hpp), other solids' surfaces and
+// the cloth itself act on the velocities (collision_solver.hpp).
 
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
@@ -94,8 +96,9 @@ class ClothSimulator {
   /// Forces, df/dx v and the system M - h df/dv - h^2 df/dx into m_system, m_force, m_kv.
   void assemble(double h);
   /// Returns per node the outward normal of the collider it touched (zero: none).
-  std::vector<Eigen::Vector3d> resolve_collider_contacts(const Eigen::VectorXd& x0, Eigen::VectorXd& v,
-                                              double h, std::vector<Eigen::Vector3d>& pop);
+  std::vector<Eigen::Vector3d> resolve_collider_contacts(const Eigen::VectorXd& x0,
+                                                         Eigen::VectorXd& v, double h,
+                                                         std::vector<Eigen::Vector3d>& pop);
 
   ClothModel m_model;
   SolverSettings m_solver;

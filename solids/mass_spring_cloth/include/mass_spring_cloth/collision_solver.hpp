@@ -29,8 +29,8 @@ namespace shellflow::cloth {
 
 struct CollisionStatistics {
   int proximity_contacts = 0;
-  int ccd_collisions = 0;  ///< pairs found by the continuous passes (all passes)
-  int impact_zones = 0;    ///< zones left after the impact-zone loop
+  int ccd_collisions = 0;   ///< pairs found by the continuous passes (all passes)
+  int impact_zones = 0;     ///< zones left after the impact-zone loop
   int candidate_pairs = 0;  ///< point–triangle + edge–edge pairs from the last broad phase
   int broad_phases = 0;     ///< broad-phase searches (the candidates are reused in between)
 };
