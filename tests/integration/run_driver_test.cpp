@@ -104,6 +104,26 @@ TEST_F(RunDriver, NonFiniteValueStopsWithTheLastGoodFrameAndSaysWhere) {
   EXPECT_EQ(run_json()["last_frame"], 1);
 }
 
+TEST_F(RunDriver, RunawaySpeedStopsWithTheLastGoodFrameAndTheLikelyCause) {
+  // The plate falls freely (g = 9.81 m/s², one step per 1/24 s frame): 0.41 m/s after
+  // frame 1, 0.82 m/s after frame 2 — past a guard of 0.5 m/s at step 2.
+  const auto file = write("scene.json", R"({"name": "t", "time": {"fps": 24, "frames": 4},
+      "coupling": {"max_speed": 0.5}, "solids": [{"plugin": "template_solid", "name": "plate"}],
+      "outputs": [{"plugin": "obj_writer"}]})");
+  const auto summary = run_scene(load_scene(file, {kDoubles, kPlugins}), options());
+  EXPECT_EQ(summary.status, RunStatus::NumericalFailure);
+  EXPECT_EQ(summary.steps, 2);
+  EXPECT_EQ(summary.last_frame, 1);
+  EXPECT_THAT(summary.message, HasSubstr("unstable at step 2"));
+  EXPECT_THAT(summary.message, HasSubstr("shell 'plate' node 0 moves at 0.8175"));
+  EXPECT_THAT(summary.message, HasSubstr("/coupling/max_speed"));
+  EXPECT_THAT(summary.message, HasSubstr("lower /time/max_dt"));
+  EXPECT_THAT(summary.message, HasSubstr("last good frame is frame 1"));
+  EXPECT_TRUE(fs::exists(m_dir / "out" / "meshes" / "plate_0001.obj"));
+  EXPECT_FALSE(fs::exists(m_dir / "out" / "meshes" / "plate_0002.obj"));
+  EXPECT_EQ(run_json()["status"], "numerical_failure");
+}
+
 TEST_F(RunDriver, StopRequestWritesThePartialFrameAndSaysSo) {
   std::atomic<bool> stop{true};  // as if Ctrl-C came during the first step
   auto o = options();

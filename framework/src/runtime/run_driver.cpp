@@ -57,6 +57,48 @@ std::optional<std::string> find_nonfinite(sdk::ShellSet shells) {
   return std::nullopt;
 }
 
+/// The fastest node among the shells and the fastest fluid sample (the "velocity" field),
+/// described, when one exceeds `max_speed` (the stability guard of the §6 loop).
+std::optional<std::string> find_runaway(sdk::ShellSet shells, const sdk::FluidSolver* fluid,
+                                        double max_speed) {
+  for (const auto& s : shells) {
+    if (s.velocities.rows() == 0) continue;
+    Eigen::Index node = 0;
+    const double speed = s.velocities.rowwise().norm().maxCoeff(&node);
+    if (speed > max_speed) {
+      const double sigma = s.surface_density.size() > 0 ? s.surface_density.minCoeff() : 0.0;
+      return "shell '" + s.name + "' node " + std::to_string(node) + " moves at " +
+             std::to_string(speed) + " m/s, above /coupling/max_speed = " +
+             std::to_string(max_speed) + " m/s. Likely cause: the time step is too large for " +
+             "the shell's stiffness, or for the density ratio of a light shell (surface "
+             "density " + std::to_string(sigma) + " kg/m^2) against the fluid: lower "
+             "/time/max_dt or /time/cfl";
+    }
+  }
+  if (!fluid) return std::nullopt;
+  for (const auto& field : fluid->fields()) {
+    if (field.name != "velocity" || field.components != 3) continue;
+    const std::int64_t n = std::int64_t{field.dims[0]} * field.dims[1] * field.dims[2];
+    double max2 = 0.0;
+    std::int64_t where = 0;
+    for (std::int64_t i = 0; i < n; ++i) {
+      const double s2 = field.data[0][i] * field.data[0][i] + field.data[1][i] * field.data[1][i] +
+                        field.data[2][i] * field.data[2][i];
+      if (s2 > max2) {
+        max2 = s2;
+        where = i;
+      }
+    }
+    if (std::sqrt(max2) > max_speed)
+      return "the fluid moves at " + std::to_string(std::sqrt(max2)) + " m/s at sample " +
+             std::to_string(where) + " of its velocity field, above /coupling/max_speed = " +
+             std::to_string(max_speed) + " m/s. Likely cause: a time step too large for the "
+             "density ratio between a two-way shell and the fluid (lower /time/max_dt or "
+             "/time/cfl), or a source or inflow faster than intended";
+  }
+  return std::nullopt;
+}
+
 /// What the run plan enables and why (DESIGN.md: skip what a scene does not need).
 Json run_plan(const Scene& scene, sdk::ShellSet shells) {
   bool two_way = false;
@@ -216,6 +258,20 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
         // Stability guard: stop at the first non-finite value, keeping the frames so far.
         std::optional<std::string> bad = find_nonfinite(loop.shells());
         if (!bad && fluid) bad = (*fluid)->find_nonfinite();
+        std::optional<std::string> runaway;
+        if (!bad) runaway = find_runaway(loop.shells(), fluid ? fluid->get() : nullptr,
+                                         scene.max_speed);
+        if (runaway) {
+          summary.status = RunStatus::NumericalFailure;
+          summary.message = "unstable at step " + std::to_string(summary.steps) + " (t = " +
+                            std::to_string(loop.time()) + " s, during frame " +
+                            std::to_string(frame) + "): " + *runaway +
+                            ". The last good frame is frame " +
+                            std::to_string(summary.last_frame) + " in " +
+                            summary.out_dir.string();
+          stop_reason = summary.message;
+          break;
+        }
         if (bad) {
           summary.status = RunStatus::NumericalFailure;
           summary.message =

@@ -62,7 +62,13 @@ Schema scene_schema() {
       .field("coupling", Schema::object("how fluid and solids exchange forces (§6)")
                              .field("scheme", Schema::string("staggered")
                                                   .one_of({"staggered"})
-                                                  .doc("'staggered': the paper's §6 loop")))
+                                                  .doc("'staggered': the paper's §6 loop"))
+                             .field("max_speed",
+                                    Schema::number(340.0).min(0.0, false).unit("m/s").doc(
+                                        "stability guard: a fluid or shell speed above this "
+                                        "stops the run, keeping the frames written so far "
+                                        "(default: the speed of sound in air, past which "
+                                        "an incompressible model means nothing)")))
       .field("fluid", plugin_node("fluid", "the fluid solver").optional())
       .field("solids", Schema::array(plugin_node("solid", "a solid solver"))
                              .default_value(Json::array())
@@ -181,6 +187,7 @@ Scene load_scene(const fs::path& file_in, const std::vector<fs::path>& extra_sea
   if (time.contains("max_dt")) scene.time.max_dt = time["max_dt"].get<double>();
   scene.time.cfl = time["cfl"];
   scene.coupling_scheme = doc["coupling"]["scheme"];
+  scene.max_speed = doc["coupling"]["max_speed"];
   scene.resolved = doc;
   return scene;
 }

@@ -37,6 +37,8 @@ struct Scene {
   Eigen::Vector3d gravity{0.0, -9.81, 0.0};
   TimeSettings time;
   std::string coupling_scheme = "staggered";
+  /// Stability guard: a fluid or shell speed above this stops the run [m/s].
+  double max_speed = 340.0;
   std::optional<PluginSpec> fluid;
   std::vector<PluginSpec> solids;
   std::vector<PluginSpec> outputs;
