@@ -43,15 +43,21 @@ double GridLaplacian::multiply_and_dot(const Eigen::VectorXd& x, Eigen::VectorXd
   const double* xp = x.data();
   double* yp = y.data();
   double dot = 0.0;
-#pragma omp parallel for collapse(2) schedule(static) reduction(+ : dot) if (size() >= kParallelThreshold)
-  for (int k = 0; k < s.nz; ++k)
-    for (int j = 0; j < s.ny; ++j)
-      detail::for_row(s, wx, wy, wz, xp, j, k, 0, 1,
-                      [&](int, std::int64_t c, double diagonal, double sum) {
-                        const double v = diagonal * xp[c] - sum;
-                        yp[c] = v;
-                        dot += xp[c] * v;
-                      });
+#pragma omp parallel if (size() >= kParallelThreshold) reduction(+ : dot)
+  {
+    std::vector<double> sum(s.nx), diagonal(s.nx), zeros(s.nx, 0.0);
+#pragma omp for collapse(2) schedule(static)
+    for (int k = 0; k < s.nz; ++k)
+      for (int j = 0; j < s.ny; ++j) {
+        detail::row_sums(s, wx, wy, wz, xp, zeros.data(), j, k, sum.data(), diagonal.data());
+        const std::int64_t row = s.cell_row(j, k);
+        for (int i = 0; i < s.nx; ++i) {
+          const double v = diagonal[i] * xp[row + i] - sum[i];
+          yp[row + i] = v;
+          dot += xp[row + i] * v;
+        }
+      }
+  }
   return dot;
 }
 
@@ -65,15 +71,21 @@ double GridLaplacian::residual(const Eigen::VectorXd& b, const Eigen::VectorXd& 
   const double* bp = b.data();
   double* rp = r.data();
   double norm2 = 0.0;
-#pragma omp parallel for collapse(2) schedule(static) reduction(+ : norm2) if (size() >= kParallelThreshold)
-  for (int k = 0; k < s.nz; ++k)
-    for (int j = 0; j < s.ny; ++j)
-      detail::for_row(s, wx, wy, wz, xp, j, k, 0, 1,
-                      [&](int, std::int64_t c, double diagonal, double sum) {
-                        const double v = bp[c] - (diagonal * xp[c] - sum);
-                        rp[c] = v;
-                        norm2 += v * v;
-                      });
+#pragma omp parallel if (size() >= kParallelThreshold) reduction(+ : norm2)
+  {
+    std::vector<double> sum(s.nx), diagonal(s.nx), zeros(s.nx, 0.0);
+#pragma omp for collapse(2) schedule(static)
+    for (int k = 0; k < s.nz; ++k)
+      for (int j = 0; j < s.ny; ++j) {
+        detail::row_sums(s, wx, wy, wz, xp, zeros.data(), j, k, sum.data(), diagonal.data());
+        const std::int64_t row = s.cell_row(j, k);
+        for (int i = 0; i < s.nx; ++i) {
+          const double v = bp[row + i] - (diagonal[i] * xp[row + i] - sum[i]);
+          rp[row + i] = v;
+          norm2 += v * v;
+        }
+      }
+  }
   return norm2;
 }
 
