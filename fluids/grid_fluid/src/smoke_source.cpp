@@ -34,7 +34,15 @@ sdk::Schema SmokeSource::schema() {
       .option("box", with_common_fields(Schema::object("an axis-aligned box")
                                             .field("min", Schema::vec3().unit("m").doc("corner"))
                                             .field("max", Schema::vec3().unit("m").doc(
-                                                              "opposite corner"))));
+                                                              "opposite corner"))))
+      .option("cylinder",
+              with_common_fields(
+                  Schema::object("a solid cylinder between two points (a nozzle; PhysBAM's "
+                                 "smoke jets)")
+                      .field("from", Schema::vec3().unit("m").doc("centre of one end"))
+                      .field("to", Schema::vec3().unit("m").doc("centre of the other end"))
+                      .field("radius",
+                             Schema::number().min(0.0, false).unit("m").doc("radius"))));
 }
 
 SmokeSource::SmokeSource(const nlohmann::json& spec, const std::string& json_path) {
@@ -49,8 +57,16 @@ SmokeSource::SmokeSource(const nlohmann::json& spec, const std::string& json_pat
     m_max = sdk::json_vec3(spec, "max");
     if ((m_max.array() <= m_min.array()).any())
       throw ConfigError(json_path + "/max", "every coordinate of max must exceed min's");
+  } else if (shape == "cylinder") {
+    m_shape = Shape::Cylinder;
+    m_min = sdk::json_vec3(spec, "from");
+    m_max = sdk::json_vec3(spec, "to");
+    m_radius = spec.at("radius").get<double>();
+    if ((m_max - m_min).norm() == 0.0)
+      throw ConfigError(json_path + "/to", "must differ from \"from\" (the cylinder's axis)");
   } else {
-    throw ConfigError(json_path + "/shape", "unknown shape \"" + shape + "\"; use sphere or box");
+    throw ConfigError(json_path + "/shape",
+                      "unknown shape \"" + shape + "\"; use sphere, box or cylinder");
   }
   if (spec.contains("velocity") && !spec.at("velocity").is_null())
     m_velocity = sdk::json_vec3(spec, "velocity");
@@ -67,16 +83,26 @@ SmokeSource::SmokeSource(const nlohmann::json& spec, const std::string& json_pat
 
 bool SmokeSource::contains(const Eigen::Vector3d& p) const {
   if (m_shape == Shape::Sphere) return (p - m_center).squaredNorm() <= m_radius * m_radius;
+  if (m_shape == Shape::Cylinder) {  // m_min, m_max: the ends of the axis
+    const Eigen::Vector3d axis = m_max - m_min;
+    const double s = (p - m_min).dot(axis) / axis.squaredNorm();
+    return s >= 0.0 && s <= 1.0 && (p - m_min - s * axis).squaredNorm() <= m_radius * m_radius;
+  }
   return (p.array() >= m_min.array()).all() && (p.array() <= m_max.array()).all();
 }
 
 std::int64_t SmokeSource::apply(double t, const grid::UniformGrid& grid, NodeFields& fields,
                                 bool temperature) const {
   if (!active(t)) return 0;
-  const Eigen::Vector3d lo = m_shape == Shape::Sphere ? Eigen::Vector3d(m_center.array() - m_radius)
-                                                      : m_min;
-  const Eigen::Vector3d hi = m_shape == Shape::Sphere ? Eigen::Vector3d(m_center.array() + m_radius)
-                                                      : m_max;
+  Eigen::Vector3d lo = m_min;
+  Eigen::Vector3d hi = m_max;
+  if (m_shape == Shape::Sphere) {
+    lo = m_center.array() - m_radius;
+    hi = m_center.array() + m_radius;
+  } else if (m_shape == Shape::Cylinder) {
+    lo = m_min.cwiseMin(m_max).array() - m_radius;
+    hi = m_min.cwiseMax(m_max).array() + m_radius;
+  }
   const grid::IndexBox box = grid.samples_in_box(grid::Location::Node, lo, hi);
   if (box.empty()) return 0;
   std::int64_t set = 0;

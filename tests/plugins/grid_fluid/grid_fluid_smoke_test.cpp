@@ -38,6 +38,31 @@ TEST(SmokeForces, BuoyancyIsMinusAlphaRhoPlusBetaTemperatureExcess) {
   EXPECT_NEAR(h.velocity(2)[0], -0.1, 1e-15);
 }
 
+TEST(SmokeSource, CylinderSetsExactlyTheNodesWithinItsRadiusAndEnds) {
+  // A tilted nozzle on a 20³ grid: every node is inside iff its projection on the axis
+  // falls between the ends and its distance to the axis is at most the radius.
+  const grid::UniformGrid g(Eigen::Vector3d::Zero(), 0.05, Eigen::Vector3i(20, 20, 20));
+  const Eigen::Vector3d from(0.2, 0.3, 0.5), to(0.7, 0.6, 0.5);
+  const SmokeSource source({{"shape", "cylinder"}, {"from", {0.2, 0.3, 0.5}},
+                            {"to", {0.7, 0.6, 0.5}}, {"radius", 0.12}, {"density", 2.0},
+                            {"velocity", {3, 0, 0}}},
+                           "/sources/0");
+  NodeFields fields(g, 298.0);
+  const std::int64_t set = source.apply(0.0, g, fields, false);
+  std::int64_t expected = 0;
+  const Eigen::Vector3d axis = to - from;
+  for (std::int64_t i = 0; i < g.size(grid::Location::Node); ++i) {
+    const Eigen::Vector3d p = g.position(grid::Location::Node, i);
+    const double s = (p - from).dot(axis) / axis.squaredNorm();
+    const bool inside = s >= 0 && s <= 1 && (p - from - s * axis).norm() <= 0.12;
+    expected += inside;
+    EXPECT_EQ(fields.density()[i], inside ? 2.0 : 0.0) << "node " << i;
+    EXPECT_EQ(fields.velocity(0)[i], inside ? 3.0 : 0.0) << "node " << i;
+  }
+  EXPECT_EQ(set, expected);
+  EXPECT_GT(set, 50);
+}
+
 TEST(GridFluidSmoke, HotPlumeRisesAndTheSourceTurnsOff) {
   auto fluid = test::make_fluid(
       {{"resolution", 16},

@@ -15,7 +15,7 @@ namespace shellflow::grid_fluid {
 
 class SmokeSource {
  public:
-  enum class Shape { Sphere, Box };
+  enum class Shape { Sphere, Box, Cylinder };
 
   /// From one validated entry of "sources" (schema()); ConfigError at `json_path`/...
   SmokeSource(const nlohmann::json& spec, const std::string& json_path);
@@ -37,8 +37,8 @@ class SmokeSource {
   Shape m_shape = Shape::Sphere;
   Eigen::Vector3d m_center = Eigen::Vector3d::Zero();
   double m_radius = 0.0;
-  Eigen::Vector3d m_min = Eigen::Vector3d::Zero();
-  Eigen::Vector3d m_max = Eigen::Vector3d::Zero();
+  Eigen::Vector3d m_min = Eigen::Vector3d::Zero();  ///< box corner, or cylinder axis start
+  Eigen::Vector3d m_max = Eigen::Vector3d::Zero();  ///< opposite corner, or axis end
   std::optional<Eigen::Vector3d> m_velocity;
   double m_density = 1.0;
   std::optional<double> m_temperature;
