@@ -84,10 +84,11 @@ sdk::Schema GridFluid::schema() {
                  .field("preconditioner",
                         Schema::string("multigrid").one_of({"multigrid", "mic0"}).doc(
                             "of pcg. multigrid: a V-cycle (McAdams et al. 2010), iterations "
-                            "nearly independent of the grid (11 vs MIC(0)'s 73 at 64^3, "
-                            "open-top box), parallel; default, as it is 3-4x faster from "
-                            "32^3 up (tests/plugins/grid_fluid/grid_fluid_bench.cpp). mic0: "
-                            "modified incomplete Cholesky (Bridson 2008), sequential"))
+                            "nearly independent of the grid (plume to 1e-5: 5 per step at 32^3 "
+                            "and 64^3 where MIC(0) takes 24 and 43), parallel; the default, as "
+                            "the plume's projection is 2x faster at 32^3 and 5x at 64^3 even "
+                            "on one thread (bench_grid_fluid). mic0: modified incomplete "
+                            "Cholesky (Bridson 2008), sequential triangular solves"))
                  .field("tolerance", Schema::number(1e-6).min(0.0, false).max(0.1).doc(
                                          "relative residual |b − Ap|/|b| of PCG; the largest "
                                          "cell divergence is also kept below tolerance × "
