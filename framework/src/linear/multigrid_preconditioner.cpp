@@ -152,6 +152,20 @@ void half_sweep(const Level& level, int color) {
   });
 }
 
+/// The red half sweep from x = 0: x_c = b_c / A_cc on the red cells (black ones untouched).
+void first_red_sweep(const Level& level) {
+  const Eigen::Vector3i n = level.cells;
+  float* x = level.x.data();
+  const float* b = level.b.data();
+  const float* inverse = level.inverse_diagonal.data();
+#pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j) {
+      const std::int64_t row = std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
+      for (int i = (j + k) & 1; i < n.x(); i += 2) x[row + i] = b[row + i] * inverse[row + i];
+    }
+}
+
 /// r = b − A x on a level.
 void level_residual(const Level& level) {
   const auto s = detail::stencil_of(level.cells);
@@ -339,8 +353,11 @@ void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z
   // Down: forward smoothing (red, black) from zero, restrict the residual.
   for (int l = 0; l + 1 < levels; ++l) {
     const Level& level = m_levels[l];
-    zero(level.x, parallel(level));
-    for (int s = 0; s < nu; ++s) {
+    // From x = 0 the first red half sweep reads no neighbour (x_red = b / A_cc) and the
+    // black one reads only red cells: together they write every cell, so no zero fill.
+    first_red_sweep(level);
+    half_sweep(level, 1);
+    for (int s = 1; s < nu; ++s) {
       half_sweep(level, 0);
       half_sweep(level, 1);
     }
