@@ -95,6 +95,8 @@ void CollisionSolver::update_candidates(const Vectors& x0, const Vectors& v, dou
   // candidates while each node stays within the margin of its end position.
   m_broad_phase.find(x0, x1, m_thickness + 2.0 * margin, m_candidates);
   m_candidates_valid = true;
+  m_pt_distance.assign(m_candidates.point_triangle.size(), 0.0);
+  m_ee_distance.assign(m_candidates.edge_edge.size(), 0.0);
   ++stats.broad_phases;
   stats.candidate_pairs =
       static_cast<int>(m_candidates.point_triangle.size() + m_candidates.edge_edge.size());
@@ -102,7 +104,7 @@ void CollisionSolver::update_candidates(const Vectors& x0, const Vectors& v, dou
 
 void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
                                          const std::vector<double>& inverse_mass, double h,
-                                         std::vector<Contact>& out) const {
+                                         std::vector<Contact>& out) {
   const double thickness = m_thickness;
   const auto& edges = m_broad_phase.edges();
   const auto& pt_pairs = m_candidates.point_triangle;
@@ -123,10 +125,14 @@ void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
       const geometry::Aabb box(
           corners[0].cwiseMin(corners[1]).cwiseMin(corners[2]).array() - thickness,
           corners[0].cwiseMax(corners[1]).cwiseMax(corners[2]).array() + thickness);
-      if (!box.contains(x0[k])) continue;
+      if (!box.contains(x0[k])) {
+        m_pt_distance[p] = thickness;  // outside the inflated box: farther than that
+        continue;
+      }
       const auto closest = geometry::closest_point_on_triangle(x0[k], corners);
       const Eigen::Vector3d d = x0[k] - closest.point;
       const double dist = d.norm();
+      m_pt_distance[p] = dist;
       if (dist >= thickness) continue;
       const Eigen::Vector3d& w = closest.barycentric;
       Eigen::Vector3d n;
@@ -155,9 +161,13 @@ void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,
       const geometry::Aabb box_a(x0[ea[0]].cwiseMin(x0[ea[1]]).array() - thickness,
                                  x0[ea[0]].cwiseMax(x0[ea[1]]).array() + thickness);
       const geometry::Aabb box_b(x0[eb[0]].cwiseMin(x0[eb[1]]), x0[eb[0]].cwiseMax(x0[eb[1]]));
-      if (!box_a.overlaps(box_b)) continue;
+      if (!box_a.overlaps(box_b)) {
+        m_ee_distance[p] = thickness;
+        continue;
+      }
       const auto closest =
           geometry::closest_segment_segment(x0[ea[0]], x0[ea[1]], x0[eb[0]], x0[eb[1]]);
+      m_ee_distance[p] = std::sqrt(closest.distance2);
       const double s = closest.s, u = closest.t;
       // Point–triangle pairs cover the end points; edge pairs only count in their interiors.
       if (s <= 0.0 || s >= 1.0 || u <= 0.0 || u >= 1.0) continue;
@@ -206,6 +216,13 @@ void CollisionSolver::ccd_contacts(const Vectors& x0, const Vectors& v,
       d[i] = h * v[nodes[i]];
     }
   };
+  // Any point of either feature moves at most as far as its farthest node, so the pair
+  // closes in by at most twice the largest node displacement.
+  const auto out_of_reach = [&](double start_distance, const std::array<int, 4>& nodes) {
+    double reach = 0.0;
+    for (int k : nodes) reach = std::max(reach, v[k].squaredNorm());
+    return start_distance - 2.0 * h * std::sqrt(reach) > eps;
+  };
 
 #pragma omp parallel if (pt_pairs.size() + ee_pairs.size() > kParallelThreshold)
   {
@@ -215,7 +232,7 @@ void CollisionSolver::ccd_contacts(const Vectors& x0, const Vectors& v,
       const auto [k, t] = pt_pairs[p];
       const auto& tri = m_triangles[t];
       const std::array<int, 4> nodes{k, tri[0], tri[1], tri[2]};
-      if (skip(nodes)) continue;
+      if (skip(nodes) || out_of_reach(m_pt_distance[p], nodes)) continue;
       std::array<Eigen::Vector3d, 4> x, d;
       motion(nodes, x, d);
       // |det| = 2 area * distance from the plane: the tolerance is eps in distance.
@@ -242,7 +259,7 @@ void CollisionSolver::ccd_contacts(const Vectors& x0, const Vectors& v,
     for (long p = 0; p < static_cast<long>(ee_pairs.size()); ++p) {
       const auto [e, f] = ee_pairs[p];
       const std::array<int, 4> nodes{edges[e][0], edges[e][1], edges[f][0], edges[f][1]};
-      if (skip(nodes)) continue;
+      if (skip(nodes) || out_of_reach(m_ee_distance[p], nodes)) continue;
       std::array<Eigen::Vector3d, 4> x, d;
       motion(nodes, x, d);
       // |det| = |e1 x e2| * distance between the lines; the floor keeps near-parallel

@@ -64,9 +64,10 @@ class CollisionSolver {
   /// Candidates for moving from x0 by h * v, refreshed only when some node has moved
   /// farther than the margin from the motion they were found for.
   void update_candidates(const Vectors& x0, const Vectors& v, double h, CollisionStatistics& stats);
+  /// Also records each candidate's distance at the start (or a lower bound of it).
   void proximity_contacts(const Vectors& x0, const Vectors& v,
                           const std::vector<double>& inverse_mass, double h,
-                          std::vector<Contact>& out) const;
+                          std::vector<Contact>& out);
   void ccd_contacts(const Vectors& x0, const Vectors& v, const std::vector<double>& inverse_mass,
                     double h, const std::vector<char>* active, std::vector<Contact>& out) const;
   void apply(const Contact& c, Vectors& v, const std::vector<double>& inverse_mass,
@@ -79,6 +80,10 @@ class CollisionSolver {
   ContactBroadPhase m_broad_phase;
   ContactCandidates m_candidates;
   Vectors m_candidate_motion;  ///< h * v the candidates were found for
+  /// Per candidate, a lower bound of its distance at the start of the step (0: unknown).
+  /// A pair farther apart than its nodes can move towards each other cannot collide, so
+  /// the continuous passes skip it without solving its cubic.
+  std::vector<double> m_pt_distance, m_ee_distance;
   bool m_candidates_valid = false;
 };
 
