@@ -6,7 +6,8 @@
 #include <cmath>
 
 #include "shellflow/geometry/gauss_jacobi_refill.hpp"
-#include "shellflow/linear/pcg_mic0_solver.hpp"
+#include "shellflow/linear/constant_null_space.hpp"
+#include "shellflow/linear/preconditioned_cg.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::grid_fluid {
@@ -19,14 +20,7 @@ CouplingPressure::CouplingPressure(const grid::UniformGrid& grid, CouplingSettin
     throw Error("CouplingPressure: the fluid density must be positive");
   for (int a = 0; a < 3; ++a) m_closed[a].assign(m_grid.size(face_location(a)), 0);
   m_scaled.assign(m_grid.size(Location::Cell), 0.0);
-}
-
-double CouplingPressure::beta(int axis, std::int64_t face) const {
-  if (m_closed[axis][face] != 0) return 0.0;
-  const auto& coupled = m_coupled[axis];
-  if (coupled.empty()) return 1.0;
-  const auto it = coupled.find(face);
-  return it == coupled.end() ? 1.0 : m_shell_faces[it->second].beta;
+  m_laplacian = linear::GridLaplacian(m_grid.cells());
 }
 
 void CouplingPressure::classify_faces(const DomainBoundary& boundary,
@@ -38,7 +32,6 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary,
   for (int a = 0; a < 3; ++a) {
     auto& closed = m_closed[a];
     std::fill(closed.begin(), closed.end(), 0);
-    m_coupled[a].clear();
     const Location loc = face_location(a);
     const Eigen::Vector3i n = m_grid.counts(loc);
     const int b = (a + 1) % 3;
@@ -91,7 +84,6 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary,
         closed[sf.face] = 1;
         ++stats.kinematic_faces;
       } else {
-        m_coupled[a].emplace(sf.face, static_cast<int>(k));
         ++stats.coupled_faces;
       }
     }
@@ -119,7 +111,6 @@ void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
                              CouplingStats& stats) {
   label_fluid_regions(m_grid, m_closed, boundary, m_regions);
   const std::int64_t cells = m_grid.size(Location::Cell);
-  const Eigen::Vector3i n = m_grid.cells();
   for (int r = 0; r < m_regions.count(); ++r) {
     if (m_regions.enclosed[r] == 0) continue;
     double mean = 0.0;
@@ -130,63 +121,33 @@ void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
       b[m_regions.cells[k]] -= mean;
   }
 
-  // The β-weighted cell Laplacian, compressed rows filled in place (sorted columns:
-  // −z, −y, −x, self, +x, +y, +z).
-  linear::SparseMatrix A(cells, cells);
-  int* outer = A.outerIndexPtr();
-  const std::int64_t stride[3] = {1, n.x(), std::int64_t{n.x()} * n.y()};
-  outer[0] = 0;
-#pragma omp parallel for schedule(static)
-  for (std::int64_t cell = 0; cell < cells; ++cell) {
-    const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
-    int count = 1;
-    for (int a = 0; a < 3; ++a) {
-      Eigen::Vector3i f = c;
-      if (c[a] > 0 && m_closed[a][m_grid.index(face_location(a), f)] == 0) ++count;
-      f[a] += 1;
-      if (c[a] + 1 < n[a] && m_closed[a][m_grid.index(face_location(a), f)] == 0) ++count;
-    }
-    outer[cell + 1] = count;
+  // The β-weighted cell Laplacian (linear::GridLaplacian: a face of weight w couples its
+  // cells, or its cell to q = 0 outside an open domain face; w = 0 is Neumann).
+  std::vector<int> group(cells, -1);
+  int groups = 0;
+  for (int r = 0; r < m_regions.count(); ++r) {
+    if (m_regions.enclosed[r] == 0) continue;
+    for (std::int64_t k = m_regions.start[r]; k < m_regions.start[r + 1]; ++k)
+      group[m_regions.cells[k]] = groups;
+    ++groups;
   }
-  for (std::int64_t cell = 0; cell < cells; ++cell) outer[cell + 1] += outer[cell];
-  A.resizeNonZeros(outer[cells]);
-  int* inner = A.innerIndexPtr();
-  double* value = A.valuePtr();
+  const linear::ConstantNullSpace null_space =
+      groups > 0 ? linear::ConstantNullSpace(std::move(group), groups) : linear::ConstantNullSpace();
+  for (int a = 0; a < 3; ++a) {
+    auto& w = m_laplacian.weights(a);
+    const auto& closed = m_closed[a];
+    const std::int64_t faces = static_cast<std::int64_t>(w.size());
 #pragma omp parallel for schedule(static)
-  for (std::int64_t cell = 0; cell < cells; ++cell) {
-    const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
-    double lower[3], upper[3];  // β of the min and max face per axis
-    for (int a = 0; a < 3; ++a) {
-      Eigen::Vector3i f = c;
-      lower[a] = beta(a, m_grid.index(face_location(a), f));
-      f[a] += 1;
-      upper[a] = beta(a, m_grid.index(face_location(a), f));
-    }
-    int pos = outer[cell];
-    double diag = 0.0;
-    for (int a = 2; a >= 0; --a) {
-      diag += lower[a];  // behind an open domain face q = 0 (Dirichlet)
-      if (c[a] > 0 && lower[a] != 0.0) {
-        inner[pos] = static_cast<int>(cell - stride[a]);
-        value[pos++] = -lower[a];
-      }
-    }
-    const int self = pos++;
-    for (int a = 0; a < 3; ++a) {
-      diag += upper[a];
-      if (c[a] + 1 < n[a] && upper[a] != 0.0) {
-        inner[pos] = static_cast<int>(cell + stride[a]);
-        value[pos++] = -upper[a];
-      }
-    }
-    inner[self] = static_cast<int>(cell);
-    value[self] = diag;
+    for (std::int64_t f = 0; f < faces; ++f) w[f] = closed[f] != 0 ? 0.0 : 1.0;
   }
+  for (const ShellFace& sf : m_shell_faces)
+    if (sf.beta > 0.0) m_laplacian.weights(sf.axis)[sf.face] = sf.beta;
 
   Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(m_scaled.data(), cells);
-  linear::PcgMic0Solver pcg;
-  pcg.compute(A);
-  const auto result = pcg.solve(b, x, m_settings.tolerance, m_settings.max_iterations);
+  m_multigrid.compute(m_laplacian);
+  const auto result = linear::preconditioned_cg(m_laplacian, m_multigrid, b, x,
+                                                m_settings.tolerance, m_settings.max_iterations,
+                                                null_space.empty() ? nullptr : &null_space);
   stats.iterations = result.iterations;
   stats.relative_residual = result.relative_residual;
   stats.converged = result.converged;

@@ -12,6 +12,8 @@
 //     of coefficient β = ρ/ρ_face updates as u −= β (q₊ − q₋) (eq. (5)), so the matrix
 //     is the β-weighted graph Laplacian of the cells (open domain faces: q = 0 outside).
 //     Enclosed regions get the mean of their right-hand side removed (compatibility).
+//     CG with the multigrid V-cycle of McAdams et al. 2010, whose coarse levels average
+//     the face weights, so a heavy or light shell face is just a weaker or stronger face.
 //  3. The pressure jump p₊ − p₋ on each shell face goes to the four nodes of that face
 //     (average of the adjacent shell faces, per axis), is spread to the nodes around the
 //     shell by Gauss–Jacobi averaging (geometry::GaussJacobiRefill), and is interpolated
@@ -26,7 +28,6 @@
 #include <array>
 #include <cstdint>
 #include <span>
-#include <unordered_map>
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
@@ -34,6 +35,8 @@
 #include "shellflow/grid_fluid/fluid_regions.hpp"
 #include "shellflow/grid_fluid/mac_grid.hpp"
 #include "shellflow/grid_fluid/shell_geometry.hpp"
+#include "shellflow/linear/grid_laplacian.hpp"
+#include "shellflow/linear/multigrid_preconditioner.hpp"
 #include "shellflow/sdk/shell_surface.hpp"
 
 namespace shellflow::grid_fluid {
@@ -91,15 +94,14 @@ class CouplingPressure {
   void jumps_to_nodes(double to_pressure, CouplingStats& stats);
   void forces_on_triangles(sdk::ShellSet set, std::span<sdk::TriangleVectors> forces,
                            CouplingStats& stats);
-  /// β of face (axis, face): 0 closed, 1 fluid, else the shell face's coefficient.
-  double beta(int axis, std::int64_t face) const;
 
   grid::UniformGrid m_grid;
   CouplingSettings m_settings;
   std::array<std::vector<std::uint8_t>, 3> m_closed;  ///< Neumann faces
   std::vector<ShellFace> m_shell_faces;
-  std::array<std::unordered_map<std::int64_t, int>, 3> m_coupled;  ///< face -> m_shell_faces
   FluidRegions m_regions;
+  linear::GridLaplacian m_laplacian;            ///< face weights β
+  linear::MultigridPreconditioner m_multigrid;  ///< McAdams et al. 2010 V-cycle
   std::vector<double> m_scaled;
   // Step 3: per axis, the jump on the nodes and its validity; only touched entries are
   // non-zero between calls.
