@@ -2,6 +2,10 @@
 
 #include <algorithm>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::cloth {
@@ -36,6 +40,7 @@ void BlockSparseMatrix::build(int node_count, const std::vector<std::pair<int, i
   m_values.assign(9 * m_columns.size(), 0.0);
   m_scalar = Eigen::SparseMatrix<double>();
   m_scalar_source.clear();
+  m_upper_start.clear();
 }
 
 int BlockSparseMatrix::find(int i, int j) const {
@@ -46,50 +51,93 @@ int BlockSparseMatrix::find(int i, int j) const {
   return static_cast<int>(found - m_columns.begin());
 }
 
-double BlockSparseMatrix::multiply_and_dot(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+void BlockSparseMatrix::compress_symmetric() {
   const int n = node_count();
-  const double* xp = x.data();
-  double* yp = y.data();
-  const double* values = m_values.data();
-  double dot = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : dot) if (n >= kParallelRows)
-  for (int i = 0; i < n; ++i) {
-    double y0 = 0.0, y1 = 0.0, y2 = 0.0;
-    for (int b = m_row_start[i]; b < m_row_start[i + 1]; ++b) {
-      const double* v = values + 9 * b;
-      const double* xj = xp + 3 * m_columns[b];
-      y0 += v[0] * xj[0] + v[1] * xj[1] + v[2] * xj[2];
-      y1 += v[3] * xj[0] + v[4] * xj[1] + v[5] * xj[2];
-      y2 += v[6] * xj[0] + v[7] * xj[1] + v[8] * xj[2];
+  if (static_cast<int>(m_upper_start.size()) != n + 1) {
+    m_upper_start.assign(1, 0);
+    m_upper_columns.clear();
+    m_upper_source.clear();
+    for (int i = 0; i < n; ++i) {
+      for (int b = m_row_start[i]; b < m_row_start[i + 1]; ++b)
+        if (m_columns[b] > i) {
+          m_upper_columns.push_back(m_columns[b]);
+          m_upper_source.push_back(b);
+        }
+      m_upper_start.push_back(static_cast<int>(m_upper_columns.size()));
     }
-    yp[3 * i] = y0, yp[3 * i + 1] = y1, yp[3 * i + 2] = y2;
-    dot += xp[3 * i] * y0 + xp[3 * i + 1] * y1 + xp[3 * i + 2] * y2;
+    m_upper_values.resize(9 * m_upper_columns.size());
+    m_diagonal_values.resize(9 * static_cast<size_t>(n));
   }
-  return dot;
+  const int upper = static_cast<int>(m_upper_source.size());
+#pragma omp parallel if (n >= kParallelRows)
+  {
+#pragma omp for schedule(static) nowait
+    for (int k = 0; k < upper; ++k)
+      std::copy_n(m_values.data() + 9 * m_upper_source[k], 9, m_upper_values.data() + 9 * k);
+#pragma omp for schedule(static)
+    for (int i = 0; i < n; ++i)
+      std::copy_n(m_values.data() + 9 * m_diagonal[i], 9, m_diagonal_values.data() + 9 * i);
+  }
+}
+
+void BlockSparseMatrix::symmetric_product(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  const int n = node_count();
+  int threads = 1;
+#ifdef _OPENMP
+  if (n >= kParallelRows) threads = omp_get_max_threads();
+#endif
+  if (static_cast<int>(m_thread_products.size()) < threads) m_thread_products.resize(threads);
+  const double* xp = x.data();
+  const double* upper_values = m_upper_values.data();
+  const double* diagonal_values = m_diagonal_values.data();
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+#ifdef _OPENMP
+    const int thread = omp_get_thread_num();
+#else
+    const int thread = 0;
+#endif
+    Eigen::VectorXd& out = m_thread_products[thread];
+    out.setZero(3 * n);
+    double* yp = out.data();
+    const int begin = static_cast<int>(static_cast<long>(n) * thread / threads);
+    const int end = static_cast<int>(static_cast<long>(n) * (thread + 1) / threads);
+    for (int i = begin; i < end; ++i) {
+      const double* d = diagonal_values + 9 * i;
+      const double x0 = xp[3 * i], x1 = xp[3 * i + 1], x2 = xp[3 * i + 2];
+      double y0 = d[0] * x0 + d[1] * x1 + d[2] * x2;
+      double y1 = d[3] * x0 + d[4] * x1 + d[5] * x2;
+      double y2 = d[6] * x0 + d[7] * x1 + d[8] * x2;
+      for (int k = m_upper_start[i]; k < m_upper_start[i + 1]; ++k) {
+        const double* v = upper_values + 9 * k;
+        const int j = m_upper_columns[k];
+        const double* xj = xp + 3 * j;
+        y0 += v[0] * xj[0] + v[1] * xj[1] + v[2] * xj[2];
+        y1 += v[3] * xj[0] + v[4] * xj[1] + v[5] * xj[2];
+        y2 += v[6] * xj[0] + v[7] * xj[1] + v[8] * xj[2];
+        // Block (j, i) is the transpose of block (i, j).
+        double* yj = yp + 3 * j;
+        yj[0] += v[0] * x0 + v[3] * x1 + v[6] * x2;
+        yj[1] += v[1] * x0 + v[4] * x1 + v[7] * x2;
+        yj[2] += v[2] * x0 + v[5] * x1 + v[8] * x2;
+      }
+      yp[3 * i] += y0, yp[3 * i + 1] += y1, yp[3 * i + 2] += y2;
+    }
+  }
+  y = m_thread_products[0];
+  for (int t = 1; t < threads; ++t) y += m_thread_products[t];
+}
+
+double BlockSparseMatrix::multiply_and_dot(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  symmetric_product(x, y);
+  return x.dot(y);
 }
 
 double BlockSparseMatrix::residual(const Eigen::VectorXd& rhs, const Eigen::VectorXd& x,
                                    Eigen::VectorXd& r) const {
-  const int n = node_count();
-  const double* xp = x.data();
-  const double* bp = rhs.data();
-  double* rp = r.data();
-  const double* values = m_values.data();
-  double norm2 = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : norm2) if (n >= kParallelRows)
-  for (int i = 0; i < n; ++i) {
-    double r0 = bp[3 * i], r1 = bp[3 * i + 1], r2 = bp[3 * i + 2];
-    for (int b = m_row_start[i]; b < m_row_start[i + 1]; ++b) {
-      const double* v = values + 9 * b;
-      const double* xj = xp + 3 * m_columns[b];
-      r0 -= v[0] * xj[0] + v[1] * xj[1] + v[2] * xj[2];
-      r1 -= v[3] * xj[0] + v[4] * xj[1] + v[5] * xj[2];
-      r2 -= v[6] * xj[0] + v[7] * xj[1] + v[8] * xj[2];
-    }
-    rp[3 * i] = r0, rp[3 * i + 1] = r1, rp[3 * i + 2] = r2;
-    norm2 += r0 * r0 + r1 * r1 + r2 * r2;
-  }
-  return norm2;
+  symmetric_product(x, r);
+  r = rhs - r;
+  return r.squaredNorm();
 }
 
 const Eigen::SparseMatrix<double>& BlockSparseMatrix::to_scalar() {

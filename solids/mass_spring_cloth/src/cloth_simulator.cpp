@@ -308,6 +308,7 @@ void ClothSimulator::step(double t, double h) {
     dv = m_last_h > 0.0 ? Eigen::VectorXd(m_last_dv * (h / m_last_h)) : Eigen::VectorXd(known);
     for (int k = 0; k < n; ++k)
       if (fixed[k]) dv.segment<3>(3 * k) = known.segment<3>(3 * k);
+    m_system.compress_symmetric();
     m_linear->two_level.compute(m_system, fixed);
     const auto solve = block_pcg(m_system, m_linear->two_level, rhs, dv, m_solver.cg_tolerance,
                                  m_solver.cg_max_iterations);
