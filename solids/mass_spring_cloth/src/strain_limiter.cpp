@@ -1,5 +1,7 @@
 #include "mass_spring_cloth/strain_limiter.hpp"
 
+#include <algorithm>
+
 namespace shellflow::cloth {
 
 StrainLimitStatistics limit_strain(const ClothModel& model, const Eigen::VectorXd& x,
@@ -23,11 +25,16 @@ StrainLimitStatistics limit_strain(const ClothModel& model, const Eigen::VectorX
     const double into = dv.dot(n);
     v.segment<3>(3 * k) += into < 0.0 ? Eigen::Vector3d(dv - into * n) : dv;
   };
+  // A spring whose nodes no correction moved since it was last checked is still within
+  // the limit: after the first sweep only springs at moved nodes are looked at.
+  const int n = static_cast<int>(inverse_mass.size());
+  std::vector<char> moved(n, 1), moving(n, 0);
   for (int sweep = 0; sweep < max_sweeps; ++sweep) {
     ++stats.sweeps;
     int corrected = 0;
     for (int e = 0; e < model.structural_count; ++e) {
       const auto& s = model.springs[e];
+      if (!moved[s.i] && !moved[s.j] && !moving[s.i] && !moving[s.j]) continue;
       const double wi = inverse_mass[s.i], wj = inverse_mass[s.j];
       if (wi + wj == 0.0) continue;
       const Eigen::Vector3d d = (x.segment<3>(3 * s.i) + h * v.segment<3>(3 * s.i)) -
@@ -38,8 +45,11 @@ StrainLimitStatistics limit_strain(const ClothModel& model, const Eigen::VectorX
       const Eigen::Vector3d excess = ((length - limit) / (length * (wi + wj) * h)) * d;
       change(s.i, -wi * excess);
       change(s.j, wj * excess);
+      moving[s.i] = moving[s.j] = 1;
       ++corrected;
     }
+    moved.swap(moving);
+    std::fill(moving.begin(), moving.end(), 0);
     stats.corrections += corrected;
     if (corrected == 0) break;
   }
