@@ -10,11 +10,12 @@
 // stiffness, whose smooth modes a local preconditioner only reaches after as many CG
 // iterations as the stress wave crosses nodes; the coarse space carries those modes in
 // one solve. The coarse matrix (3 unknowns per aggregate, a few thousand) is factored by
-// CHOLMOD's supernodal Cholesky, whose symbolic analysis is done once (it solved and
-// factored about twice as fast as Eigen's simplicial LLT at 30K triangles). Both terms are SPD on
+// Eigen's simplicial LLT, whose symbolic analysis is done once. (CHOLMOD's supernodal
+// factor was no faster at this size, and its BLAS threads stall badly when the two
+// cores are shared: the 64x64 test went from 2 s to 5-20 s under load.) Both terms are SPD on
 // the free nodes, so CG stays valid; constrained nodes are left out of the coarse space.
 
-#include <Eigen/CholmodSupport>
+#include <Eigen/SparseCholesky>
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <vector>
@@ -45,7 +46,7 @@ class AggregationPreconditioner final : public BlockPreconditioner {
   BlockSparseMatrix m_coarse;      ///< P^T A P, one block per pair of adjacent aggregates
   std::vector<int> m_coarse_slot;  ///< per fine block, its block in m_coarse
   std::vector<int> m_free_count;   ///< per aggregate, its nodes that are not fixed
-  Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>, Eigen::Lower> m_factor;
+  Eigen::SimplicialLLT<Eigen::SparseMatrix<double>, Eigen::Lower> m_factor;
   bool m_analysed = false;
 };
 
