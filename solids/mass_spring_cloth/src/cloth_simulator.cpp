@@ -6,9 +6,9 @@
 #include <cmath>
 
 #include "mass_spring_cloth/aggregation_preconditioner.hpp"
-#include "mass_spring_cloth/block_pcg.hpp"
 #include "mass_spring_cloth/spring_element.hpp"
 #include "mass_spring_cloth/strain_limiter.hpp"
+#include "shellflow/linear/preconditioned_cg.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::cloth {
@@ -310,8 +310,9 @@ void ClothSimulator::step(double t, double h) {
       if (fixed[k]) dv.segment<3>(3 * k) = known.segment<3>(3 * k);
     m_system.compress_symmetric();
     m_linear->two_level.compute(m_system, fixed);
-    const auto solve = block_pcg(m_system, m_linear->two_level, rhs, dv, m_solver.cg_tolerance,
-                                 m_solver.cg_max_iterations);
+    const auto solve = linear::preconditioned_cg(m_system, m_linear->two_level, rhs, dv,
+                                                 m_solver.cg_tolerance,
+                                                 m_solver.cg_max_iterations);
     m_stats.cg_iterations += solve.iterations;
     m_stats.coarse_unknowns = 3 * m_linear->two_level.aggregate_count();
     m_stats.cg_error = std::max(m_stats.cg_error, solve.relative_residual);

@@ -9,17 +9,13 @@
 #include <vector>
 
 #include "mass_spring_cloth/block_sparse_matrix.hpp"
+#include "shellflow/linear/preconditioner.hpp"
 
 namespace shellflow::cloth {
 
-/// z = M^{-1} r for the block PCG (block_pcg.hpp); M symmetric positive definite.
-class BlockPreconditioner {
- public:
-  virtual ~BlockPreconditioner() = default;
-  virtual int size() const = 0;
-  /// z = M^{-1} r, z resized.
-  virtual void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const = 0;
-};
+/// z = M^{-1} r for linear::preconditioned_cg on the block system; M symmetric positive
+/// definite.
+using BlockPreconditioner = linear::Preconditioner;
 
 class BlockJacobiPreconditioner final : public BlockPreconditioner {
  public:

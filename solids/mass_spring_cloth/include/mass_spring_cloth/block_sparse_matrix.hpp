@@ -13,9 +13,12 @@
 #include <utility>
 #include <vector>
 
+#include "shellflow/linear/linear_operator.hpp"
+
 namespace shellflow::cloth {
 
-class BlockSparseMatrix {
+/// A linear::LinearOperator, so the framework's preconditioned_cg solves with it.
+class BlockSparseMatrix final : public linear::LinearOperator {
  public:
   using Block = Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
   using ConstBlock = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>;
@@ -47,11 +50,12 @@ class BlockSparseMatrix {
 
   // 3 unknowns per node; products with OpenMP (each thread its row range, scattering the
   // transposed blocks into its own buffer). Need compress_symmetric() after the last change.
-  int size() const { return 3 * node_count(); }
+  int size() const override { return 3 * node_count(); }
   /// y = A x; returns x . y.
-  double multiply_and_dot(const Eigen::VectorXd& x, Eigen::VectorXd& y) const;
+  double multiply_and_dot(const Eigen::VectorXd& x, Eigen::VectorXd& y) const override;
   /// r = b - A x; returns |r|^2.
-  double residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x, Eigen::VectorXd& r) const;
+  double residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x,
+                  Eigen::VectorXd& r) const override;
 
   /// The same matrix as a scalar column-major sparse matrix (for CHOLMOD). The scalar
   /// pattern is made on the first call; later calls only copy the values.
