@@ -123,16 +123,7 @@ void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
 
   // The β-weighted cell Laplacian (linear::GridLaplacian: a face of weight w couples its
   // cells, or its cell to q = 0 outside an open domain face; w = 0 is Neumann).
-  std::vector<int> group(cells, -1);
-  int groups = 0;
-  for (int r = 0; r < m_regions.count(); ++r) {
-    if (m_regions.enclosed[r] == 0) continue;
-    for (std::int64_t k = m_regions.start[r]; k < m_regions.start[r + 1]; ++k)
-      group[m_regions.cells[k]] = groups;
-    ++groups;
-  }
-  const linear::ConstantNullSpace null_space =
-      groups > 0 ? linear::ConstantNullSpace(std::move(group), groups) : linear::ConstantNullSpace();
+  const linear::ConstantNullSpace null_space = m_regions.null_space();
   for (int a = 0; a < 3; ++a) {
     auto& w = m_laplacian.weights(a);
     const auto& closed = m_closed[a];

@@ -16,7 +16,6 @@ PressureProjection::PressureProjection(const grid::UniformGrid& grid, Projection
     : m_grid(grid), m_settings(settings) {
   const std::int64_t cells = m_grid.size(Location::Cell);
   for (int a = 0; a < 3; ++a) m_neumann[a].assign(m_grid.size(face_location(a)), 0);
-  m_region.assign(cells, -1);
   m_scaled.assign(cells, 0.0);
   m_laplacian = linear::GridLaplacian(m_grid.cells());
 }
@@ -76,85 +75,8 @@ void PressureProjection::mark_neumann(MacGrid& mac, const DomainBoundary& bounda
   }
 }
 
-void PressureProjection::flood_fill(const DomainBoundary& boundary, bool shell_faces) {
-  const std::int64_t cells = m_grid.size(Location::Cell);
-  m_enclosed.clear();
-  std::vector<std::int64_t> counts;
-  int regions = 0;
-  if (!shell_faces) {
-    // Only domain faces are closed: every cell is connected to every other (the fast path
-    // away from shells); the region is open when one side of the domain is.
-    bool open = false;
-    for (int a = 0; a < 3; ++a)
-      for (int side = 0; side < 2; ++side)
-        open = open || boundary.side(a, side).type == BoundaryType::Open;
-    std::fill(m_region.begin(), m_region.end(), 0);
-    m_enclosed.push_back(open ? 0 : 1);
-    counts.push_back(cells);
-    regions = 1;
-  } else {
-    std::fill(m_region.begin(), m_region.end(), -1);
-    const Eigen::Vector3i n = m_grid.cells();
-    const std::int64_t nx = n.x(), ny = n.y(), plane = nx * ny;
-    const std::uint8_t* closed_x = m_neumann[0].data();
-    const std::uint8_t* closed_y = m_neumann[1].data();
-    const std::uint8_t* closed_z = m_neumann[2].data();
-    const bool open_side[3][2] = {{boundary.side(0, 0).type == BoundaryType::Open,
-                                   boundary.side(0, 1).type == BoundaryType::Open},
-                                  {boundary.side(1, 0).type == BoundaryType::Open,
-                                   boundary.side(1, 1).type == BoundaryType::Open},
-                                  {boundary.side(2, 0).type == BoundaryType::Open,
-                                   boundary.side(2, 1).type == BoundaryType::Open}};
-    std::vector<std::int64_t> stack;
-    for (std::int64_t seed = 0; seed < cells; ++seed) {
-      if (m_region[seed] >= 0) continue;
-      const int r = regions++;
-      bool open = false;
-      std::int64_t size = 0;
-      m_region[seed] = r;
-      stack.push_back(seed);
-      // Visits the neighbour across an open face, or notes an open domain face.
-      const auto visit = [&](bool inside, std::int64_t nb, bool open_domain_face) {
-        if (!inside) {
-          open = open || open_domain_face;
-        } else if (m_region[nb] < 0) {
-          m_region[nb] = r;
-          stack.push_back(nb);
-        }
-      };
-      while (!stack.empty()) {
-        const std::int64_t c = stack.back();
-        stack.pop_back();
-        ++size;
-        const std::int64_t i = c % nx, j = (c / nx) % ny, k = c / plane;
-        const std::int64_t fx = i + (nx + 1) * (j + ny * k);
-        const std::int64_t fy = i + nx * (j + (ny + 1) * k);
-        if (!closed_x[fx]) visit(i > 0, c - 1, open_side[0][0]);
-        if (!closed_x[fx + 1]) visit(i + 1 < nx, c + 1, open_side[0][1]);
-        if (!closed_y[fy]) visit(j > 0, c - nx, open_side[1][0]);
-        if (!closed_y[fy + nx]) visit(j + 1 < ny, c + nx, open_side[1][1]);
-        if (!closed_z[c]) visit(k > 0, c - plane, open_side[2][0]);
-        if (!closed_z[c + plane]) visit(k + 1 < n.z(), c + plane, open_side[2][1]);
-      }
-      m_enclosed.push_back(open ? 0 : 1);
-      counts.push_back(size);
-    }
-  }
-  // Cells of each region, in cell order (CSR).
-  m_region_start.assign(regions + 1, 0);
-  for (int r = 0; r < regions; ++r) m_region_start[r + 1] = m_region_start[r] + counts[r];
-  m_region_cells.resize(cells);
-  if (regions == 1) {
-#pragma omp parallel for schedule(static)
-    for (std::int64_t cell = 0; cell < cells; ++cell) m_region_cells[cell] = cell;
-    return;
-  }
-  std::vector<std::int64_t> fill(m_region_start.begin(), m_region_start.end() - 1);
-  for (std::int64_t cell = 0; cell < cells; ++cell) m_region_cells[fill[m_region[cell]]++] = cell;
-}
-
 void PressureProjection::correct_compatibility(MacGrid& mac, ProjectionStats& stats) {
-  const int regions = static_cast<int>(m_enclosed.size());
+  const int regions = static_cast<int>(m_regions.enclosed.size());
   std::vector<std::uint8_t> corrected(regions, 0);
   struct BoundaryFace {
     int axis;
@@ -166,25 +88,25 @@ void PressureProjection::correct_compatibility(MacGrid& mac, ProjectionStats& st
   // surrounds it, and the surrounding region then through its other faces (walls).
   std::vector<int> order;
   for (int r = 0; r < regions; ++r)
-    if (m_enclosed[r] != 0) order.push_back(r);
+    if (m_regions.enclosed[r] != 0) order.push_back(r);
   std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
-    return m_region_start[x + 1] - m_region_start[x] < m_region_start[y + 1] - m_region_start[y];
+    return m_regions.start[x + 1] - m_regions.start[x] < m_regions.start[y + 1] - m_regions.start[y];
   });
   for (const int r : order) {
     double net = 0.0;
     faces.clear();
     std::vector<BoundaryFace> shared;  // faces shared with corrected enclosed regions
-    for (std::int64_t s = m_region_start[r]; s < m_region_start[r + 1]; ++s) {
-      const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, m_region_cells[s]);
+    for (std::int64_t s = m_regions.start[r]; s < m_regions.start[r + 1]; ++s) {
+      const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, m_regions.cells[s]);
       net += mac.outward_flux(c);
       for (int a = 0; a < 3; ++a)
         for (int side = 0; side < 2; ++side) {
           const std::int64_t f = face_of(c, a, side);
           if (m_neumann[a][f] == 0) continue;
           const std::int64_t nb = neighbour(c, a, side);
-          if (nb >= 0 && m_region[nb] == r) continue;  // inside the region: cancels
+          if (nb >= 0 && m_regions.region[nb] == r) continue;  // inside the region: cancels
           const BoundaryFace bf{a, f, side == 1 ? 1.0 : -1.0};
-          if (nb >= 0 && corrected[m_region[nb]] != 0) {
+          if (nb >= 0 && corrected[m_regions.region[nb]] != 0) {
             shared.push_back(bf);
           } else {
             faces.push_back(bf);
@@ -212,22 +134,12 @@ void PressureProjection::build_operator() {
     for (std::int64_t f = 0; f < count; ++f) w[f] = flags[f] != 0 ? 0.0 : 1.0;
   }
   // Enclosed regions, numbered 0.. in region order: their constants are the null space.
-  const int regions = static_cast<int>(m_enclosed.size());
-  std::vector<int> group_of_region(regions, -1);
-  m_enclosed_count = 0;
+  m_enclosed_count = m_regions.enclosed_count();
   m_first_enclosed_cell.clear();
-  for (int r = 0; r < regions; ++r)
-    if (m_enclosed[r] != 0) {
-      group_of_region[r] = m_enclosed_count++;
-      m_first_enclosed_cell.push_back(static_cast<int>(m_region_cells[m_region_start[r]]));
-    }
-  if (m_enclosed_count > 0) {
-    std::vector<int> group(m_region.size());
-    for (size_t c = 0; c < group.size(); ++c) group[c] = group_of_region[m_region[c]];
-    m_null_space = linear::ConstantNullSpace(std::move(group), m_enclosed_count);
-  } else {
-    m_null_space = linear::ConstantNullSpace();  // no singular region: nothing to project
-  }
+  for (int r = 0; r < m_regions.count(); ++r)
+    if (m_regions.enclosed[r] != 0)
+      m_first_enclosed_cell.push_back(static_cast<int>(m_regions.cells[m_regions.start[r]]));
+  m_null_space = m_regions.null_space();  // empty without a singular region
 
   if (m_settings.solver == PressureSolver::Pcg &&
       m_settings.preconditioner == PressurePreconditioner::Multigrid) {
@@ -284,10 +196,10 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
   ProjectionStats stats;
   apply_boundary_velocities(mac, boundary);
   mark_neumann(mac, boundary, shells, band, stats);
-  flood_fill(boundary, stats.shell_neumann_faces > 0);
-  const int regions = static_cast<int>(m_enclosed.size());
+  label_fluid_regions(m_grid, m_neumann, boundary, m_regions, stats.shell_neumann_faces > 0);
+  const int regions = static_cast<int>(m_regions.enclosed.size());
   stats.regions = regions;
-  for (const auto e : m_enclosed) stats.enclosed_regions += e;
+  for (const auto e : m_regions.enclosed) stats.enclosed_regions += e;
   correct_compatibility(mac, stats);
   build_operator();
 

@@ -2,7 +2,9 @@
 // FluidRegions: the connected fluid regions of the MAC cells (§4.3, Guendelman et al.
 // 2005): a flood fill through every face that is not closed (Neumann). A region that
 // reaches no open (Dirichlet, p = 0) domain face is enclosed — a pocket, a sealed side —
-// and its pressure system is singular: it needs a compatible right-hand side.
+// and its pressure system is singular: it needs a compatible right-hand side, and CG
+// needs its constant projected out (linear::ConstantNullSpace). Used by both pressure
+// solves: the §4.3 projection and the §5.1 coupling pressure.
 
 #include <array>
 #include <cstdint>
@@ -10,24 +12,32 @@
 
 #include "shellflow/grid/uniform_grid.hpp"
 #include "shellflow/grid_fluid/domain_boundary.hpp"
+#include "shellflow/linear/constant_null_space.hpp"
 
 namespace shellflow::grid_fluid {
 
 struct FluidRegions {
-  std::vector<int> region;               ///< region id of each cell
-  std::vector<std::uint8_t> enclosed;    ///< per region: 1 when it has no open domain face
-  std::vector<std::int64_t> start;       ///< CSR over the regions: cells of r are
-  std::vector<std::int64_t> cells;       ///< cells[start[r] .. start[r+1]), in cell order
+  std::vector<int> region;             ///< region id of each cell
+  std::vector<std::uint8_t> enclosed;  ///< per region: 1 when it has no open domain face
+  std::vector<std::int64_t> start;     ///< CSR over the regions: cells of r are
+  std::vector<std::int64_t> cells;     ///< cells[start[r] .. start[r+1]), in cell order
 
   int count() const { return static_cast<int>(enclosed.size()); }
   std::int64_t size(int r) const { return start[r + 1] - start[r]; }
+  int enclosed_count() const;
+  /// The constants of the enclosed regions (numbered in region order): the null space of
+  /// the pressure operator. Empty when every region is open.
+  linear::ConstantNullSpace null_space() const;
 };
 
 /// Labels the regions of the cells of `grid` connected through faces whose flag in
 /// `closed[axis]` (one byte per face of family axis, UniformGrid::index order) is 0.
 /// A region is open when one of its cells has a non-closed domain face of type Open.
+/// `interior_closed` false promises that no interior face is closed (no shell): then the
+/// grid is one region and the fill is skipped.
 void label_fluid_regions(const grid::UniformGrid& grid,
                          const std::array<std::vector<std::uint8_t>, 3>& closed,
-                         const DomainBoundary& boundary, FluidRegions& out);
+                         const DomainBoundary& boundary, FluidRegions& out,
+                         bool interior_closed = true);
 
 }  // namespace shellflow::grid_fluid

@@ -31,6 +31,7 @@
 
 #include "shellflow/geometry/shell_band.hpp"
 #include "shellflow/grid_fluid/domain_boundary.hpp"
+#include "shellflow/grid_fluid/fluid_regions.hpp"
 #include "shellflow/grid_fluid/mac_grid.hpp"
 #include "shellflow/grid_fluid/shell_geometry.hpp"
 #include "shellflow/linear/constant_null_space.hpp"
@@ -79,18 +80,17 @@ class PressureProjection {
   /// Neumann flags of the last projection for face family `axis`.
   const std::vector<std::uint8_t>& neumann(int axis) const { return m_neumann[axis]; }
   /// Region id of each cell in the last projection.
-  const std::vector<int>& region() const { return m_region; }
+  const std::vector<int>& region() const { return m_regions.region; }
   /// Scaled pressures p' = p Δt / Δx of the last projection (the next initial guess; part
   /// of the solver state for save/restore).
   std::vector<double>& scaled_pressure() { return m_scaled; }
   /// Whether region r has no Dirichlet face.
-  bool enclosed(int r) const { return m_enclosed[r] != 0; }
+  bool enclosed(int r) const { return m_regions.enclosed[r] != 0; }
 
  private:
   void mark_neumann(MacGrid& mac, const DomainBoundary& boundary, const ShellGeometry& shells,
                     const geometry::ShellBand* band, ProjectionStats& stats);
   /// `shell_faces`: whether any face is closed by a shell (without, one region).
-  void flood_fill(const DomainBoundary& boundary, bool shell_faces);
   void correct_compatibility(MacGrid& mac, ProjectionStats& stats);
   /// Face weights of the Laplacian (1 − Neumann flag) and the enclosed groups.
   void build_operator();
@@ -115,10 +115,7 @@ class PressureProjection {
   grid::UniformGrid m_grid;
   ProjectionSettings m_settings;
   std::array<std::vector<std::uint8_t>, 3> m_neumann;
-  std::vector<int> m_region;
-  std::vector<std::uint8_t> m_enclosed;
-  std::vector<std::int64_t> m_region_start;  ///< CSR of the cells of each region
-  std::vector<std::int64_t> m_region_cells;
+  FluidRegions m_regions;
   std::vector<double> m_scaled;  ///< p' = p Δt / Δx, kept as the next initial guess
   linear::GridLaplacian m_laplacian;
   linear::ConstantNullSpace m_null_space;  ///< constants of the enclosed regions
