@@ -94,7 +94,12 @@ sdk::Schema GridFluid::schema() {
                                          "cell divergence is also kept below tolerance × "
                                          "max|u*|"))
                  .field("max_iterations",
-                        Schema::integer(2000).min(1).doc("PCG iteration cap per region")))
+                        Schema::integer(2000).min(1).doc("PCG iteration cap per region"))
+                 .field("coupling_tolerance",
+                        Schema::number(1e-4).min(0.0, false).max(0.1).doc(
+                            "relative residual of the §5.1 coupling-pressure solve (two-way "
+                            "shells only); it sets forces, not the velocity field, so it can be "
+                            "looser than the projection's")))
       .field("smoke",
              Schema::object("smoke physics (§4.1, Fedkiw et al. 2001)")
                  .field("ambient_temperature",
@@ -131,6 +136,7 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
   if (params.contains("boundary")) m_boundary = DomainBoundary(params.at("boundary"), "/boundary");
   m_epsilon = params.at("epsilon").get<double>() * m_mac.dx();
   m_density = params.at("density").get<double>();
+  m_coupling_tolerance = params.at("pressure").at("coupling_tolerance").get<double>();
   const auto& smoke = params.at("smoke");
   m_buoyancy.ambient_temperature = smoke.at("ambient_temperature").get<double>();
   m_buoyancy.density_alpha = smoke.at("density_buoyancy").get<double>();
@@ -270,7 +276,7 @@ CouplingPressure& GridFluid::coupling_pressure() {
   if (!m_coupling) {
     const auto& p = m_projection.settings();
     m_coupling = std::make_unique<CouplingPressure>(
-        m_mac.grid(), CouplingSettings{m_density, p.tolerance, p.max_iterations});
+        m_mac.grid(), CouplingSettings{m_density, m_coupling_tolerance, p.max_iterations});
   }
   return *m_coupling;
 }

@@ -76,7 +76,7 @@ nlohmann::json channel(double u, double length, int resolution) {
           {"boundary",
            {{"x_min", {{"type", "inflow"}, {"velocity", {u, 0, 0}}}},
             {"x_max", {{"type", "open"}}}}},
-          {"pressure", {{"tolerance", 1e-10}}}};
+          {"pressure", {{"tolerance", 1e-10}, {"coupling_tolerance", 1e-10}}}};
 }
 
 /// Kinetic energy of the fluid on the MAC faces, ½ ρ Σ u_f² Δx³ [J].
@@ -109,7 +109,7 @@ double projection_force_on_fluid_x(const GridFluid& fluid) {
 TEST(TwoWayCoupling, ForceOnAFixedPlatePointsDownstreamAndScalesWithSpeedSquared) {
   // Inviscid flow stepped at a fixed CFL number is scale invariant: u → λu, t → t/λ,
   // p → λ²p. So the force at step k for stream speed 2U is exactly 4× that for U, up to
-  // the PCG tolerance (1e-10) amplified by the pressure differences taken.
+  // the PCG tolerances (1e-10) amplified by the pressure differences taken.
   std::vector<Eigen::Vector3d> forces[2];
   for (int run = 0; run < 2; ++run) {
     const double u = run == 0 ? 1.0 : 2.0;

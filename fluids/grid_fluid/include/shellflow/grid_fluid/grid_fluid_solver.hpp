@@ -103,6 +103,7 @@ class GridFluid final : public sdk::FluidSolver {
   DomainBoundary m_boundary;
   double m_epsilon = 0.0;
   double m_density = 1.0;  ///< ρ [kg/m^3]
+  double m_coupling_tolerance = 1e-4;
   bool m_temperature = false;
   BuoyancyParameters m_buoyancy;
   double m_vorticity = 0.0;
