@@ -109,7 +109,8 @@ Eigen::VectorXd CouplingPressure::right_hand_side(const MacGrid& mac) const {
 
 void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
                              CouplingStats& stats) {
-  label_fluid_regions(m_grid, m_closed, boundary, m_regions);
+  // Only one-way shells close interior faces here (two-way shell faces stay open).
+  label_fluid_regions(m_grid, m_closed, boundary, m_regions, stats.kinematic_faces > 0);
   const std::int64_t cells = m_grid.size(Location::Cell);
   for (int r = 0; r < m_regions.count(); ++r) {
     if (m_regions.enclosed[r] == 0) continue;
