@@ -33,16 +33,9 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary,
     auto& closed = m_closed[a];
     std::fill(closed.begin(), closed.end(), 0);
     const Location loc = face_location(a);
-    const Eigen::Vector3i n = m_grid.counts(loc);
-    const int b = (a + 1) % 3;
-    const int c = (a + 2) % 3;
-    for (int side = 0; side < 2; ++side) {  // walls and inflow faces: Neumann
-      if (boundary.side(a, side).type == BoundaryType::Open) continue;
-      Eigen::Vector3i ijk;
-      ijk[a] = side == 0 ? 0 : m_grid.cells()[a];
-      for (ijk[c] = 0; ijk[c] < n[c]; ++ijk[c])
-        for (ijk[b] = 0; ijk[b] < n[b]; ++ijk[b]) closed[m_grid.index(loc, ijk)] = 1;
-    }
+    boundary.for_each_closed_face(m_grid, a, [&](std::int64_t f, const FaceCondition&) {
+      closed[f] = 1;  // walls and inflow faces: Neumann
+    });
     // Fig. 5: the segment between the two cell centres meets a shell.
     const auto list = band.samples(loc);
     const std::int64_t m = static_cast<std::int64_t>(list.size());

@@ -14,25 +14,11 @@ bool fixed_boundary_face(const grid::UniformGrid& grid, const DomainBoundary& bo
 }
 
 void apply_boundary_velocities(MacGrid& mac, const DomainBoundary& boundary) {
-  const auto& grid = mac.grid();
   for (int a = 0; a < 3; ++a) {
-    const Location loc = face_location(a);
-    const Eigen::Vector3i n = grid.counts(loc);
-    const int b = (a + 1) % 3;
-    const int c = (a + 2) % 3;
-    for (int side = 0; side < 2; ++side) {
-      const FaceCondition& cond = boundary.side(a, side);
-      if (cond.type == BoundaryType::Open) continue;
-      const double value = cond.type == BoundaryType::Inflow ? cond.velocity[a] : 0.0;
-      Eigen::Vector3i ijk;
-      ijk[a] = side == 0 ? 0 : grid.cells()[a];
-      for (int j = 0; j < n[b]; ++j)
-        for (int k = 0; k < n[c]; ++k) {
-          ijk[b] = j;
-          ijk[c] = k;
-          mac.face_velocity(a)[grid.index(loc, ijk)] = value;
-        }
-    }
+    auto& u = mac.face_velocity(a);
+    boundary.for_each_closed_face(mac.grid(), a, [&](std::int64_t f, const FaceCondition& cond) {
+      u[f] = cond.type == BoundaryType::Inflow ? cond.velocity[a] : 0.0;
+    });
   }
 }
 

@@ -34,21 +34,9 @@ void PressureProjection::mark_neumann(MacGrid& mac, const DomainBoundary& bounda
     auto& flags = m_neumann[a];
     std::fill(flags.begin(), flags.end(), 0);
     const Location loc = face_location(a);
-    const Eigen::Vector3i n = m_grid.counts(loc);
-    const int b = (a + 1) % 3;
-    const int c = (a + 2) % 3;
-    // Wall and inflow faces of the domain.
-    for (int side = 0; side < 2; ++side) {
-      if (boundary.side(a, side).type == BoundaryType::Open) continue;
-      Eigen::Vector3i ijk;
-      ijk[a] = side == 0 ? 0 : m_grid.cells()[a];
-      for (int j = 0; j < n[b]; ++j)
-        for (int k = 0; k < n[c]; ++k) {
-          ijk[b] = j;
-          ijk[c] = k;
-          flags[m_grid.index(loc, ijk)] = 1;
-        }
-    }
+    boundary.for_each_closed_face(m_grid, a, [&](std::int64_t f, const FaceCondition&) {
+      flags[f] = 1;  // wall and inflow faces of the domain
+    });
     if (band == nullptr || shells.empty()) continue;
     // Fig. 5: a ray between the two cell centres that meets a shell closes the face.
     const auto list = band->samples(loc);

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "shellflow/grid/uniform_grid.hpp"
 #include "shellflow/sdk/schema.hpp"
 
 namespace shellflow::grid_fluid {
@@ -40,6 +41,25 @@ class DomainBoundary {
   /// Does any side let fluid out (an open side)? Without one, the whole domain is an
   /// enclosed region that needs the §4.3 compatibility correction.
   bool has_open_side() const;
+
+  /// Calls f(face, condition) for every face of family `axis` (flat index in
+  /// grid::UniformGrid's face layout) on a wall or inflow side of `grid`'s box: the
+  /// domain faces that are Neumann in every pressure solve (§4.3, §5.1).
+  template <class F>
+  void for_each_closed_face(const grid::UniformGrid& grid, int axis, F&& f) const {
+    const auto loc = static_cast<grid::Location>(static_cast<int>(grid::Location::FaceX) + axis);
+    const Eigen::Vector3i n = grid.counts(loc);
+    const int b = (axis + 1) % 3;
+    const int c = (axis + 2) % 3;
+    for (int max_side = 0; max_side < 2; ++max_side) {
+      const FaceCondition& condition = side(axis, max_side);
+      if (condition.type == BoundaryType::Open) continue;
+      Eigen::Vector3i ijk;
+      ijk[axis] = max_side == 0 ? 0 : grid.cells()[axis];
+      for (ijk[c] = 0; ijk[c] < n[c]; ++ijk[c])
+        for (ijk[b] = 0; ijk[b] < n[b]; ++ijk[b]) f(grid.index(loc, ijk), condition);
+    }
+  }
 
  private:
   std::array<FaceCondition, 6> m_sides;
