@@ -35,58 +35,52 @@ double GridLaplacian::diagonal(int cell) const {
          m_weight[2][fz] + m_weight[2][fz + s.plane()];
 }
 
-double GridLaplacian::multiply_and_dot(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
-  const auto s = detail::stencil_of(m_cells);
-  const double* wx = m_weight[0].data();
-  const double* wy = m_weight[1].data();
-  const double* wz = m_weight[2].data();
+namespace {
+
+/// Σ over the cells of entry(cell, x_cell, (A x)_cell), the products row by row with
+/// OpenMP over (k, j) rows: the one sweep behind both the product and the residual.
+template <class Entry>
+double sum_over_products(const detail::CellStencil& s, const std::array<std::vector<double>, 3>& w,
+                         const Eigen::VectorXd& x, std::int64_t size, Entry&& entry) {
   const double* xp = x.data();
-  double* yp = y.data();
-  double dot = 0.0;
-#pragma omp parallel if (size() >= kParallelThreshold) reduction(+ : dot)
+  double total = 0.0;
+#pragma omp parallel if (size >= kParallelThreshold) reduction(+ : total)
   {
     std::vector<double> sum(s.nx), diagonal(s.nx), zeros(s.nx, 0.0);
 #pragma omp for collapse(2) schedule(static)
     for (int k = 0; k < s.nz; ++k)
       for (int j = 0; j < s.ny; ++j) {
-        detail::row_sums(s, wx, wy, wz, xp, zeros.data(), j, k, sum.data(), diagonal.data());
+        detail::row_sums(s, w[0].data(), w[1].data(), w[2].data(), xp, zeros.data(), j, k,
+                         sum.data(), diagonal.data());
         const std::int64_t row = s.cell_row(j, k);
-        for (int i = 0; i < s.nx; ++i) {
-          const double v = diagonal[i] * xp[row + i] - sum[i];
-          yp[row + i] = v;
-          dot += xp[row + i] * v;
-        }
+        for (int i = 0; i < s.nx; ++i)
+          total += entry(row + i, xp[row + i], diagonal[i] * xp[row + i] - sum[i]);
       }
   }
-  return dot;
+  return total;
+}
+
+}  // namespace
+
+double GridLaplacian::multiply_and_dot(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
+  double* yp = y.data();
+  return sum_over_products(detail::stencil_of(m_cells), m_weight, x, size(),
+                           [yp](std::int64_t c, double xc, double ax) {
+                             yp[c] = ax;
+                             return xc * ax;
+                           });
 }
 
 double GridLaplacian::residual(const Eigen::VectorXd& b, const Eigen::VectorXd& x,
                                Eigen::VectorXd& r) const {
-  const auto s = detail::stencil_of(m_cells);
-  const double* wx = m_weight[0].data();
-  const double* wy = m_weight[1].data();
-  const double* wz = m_weight[2].data();
-  const double* xp = x.data();
   const double* bp = b.data();
   double* rp = r.data();
-  double norm2 = 0.0;
-#pragma omp parallel if (size() >= kParallelThreshold) reduction(+ : norm2)
-  {
-    std::vector<double> sum(s.nx), diagonal(s.nx), zeros(s.nx, 0.0);
-#pragma omp for collapse(2) schedule(static)
-    for (int k = 0; k < s.nz; ++k)
-      for (int j = 0; j < s.ny; ++j) {
-        detail::row_sums(s, wx, wy, wz, xp, zeros.data(), j, k, sum.data(), diagonal.data());
-        const std::int64_t row = s.cell_row(j, k);
-        for (int i = 0; i < s.nx; ++i) {
-          const double v = bp[row + i] - (diagonal[i] * xp[row + i] - sum[i]);
-          rp[row + i] = v;
-          norm2 += v * v;
-        }
-      }
-  }
-  return norm2;
+  return sum_over_products(detail::stencil_of(m_cells), m_weight, x, size(),
+                           [bp, rp](std::int64_t c, double, double ax) {
+                             const double v = bp[c] - ax;
+                             rp[c] = v;
+                             return v * v;
+                           });
 }
 
 SparseMatrix GridLaplacian::to_sparse() const {
