@@ -190,35 +190,37 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
                                            CouplingStats& stats) {
   const double dx = m_grid.dx();
   const Eigen::Vector3i last = m_grid.counts(Location::Node).array() - 2;
-  // The trilinear stencil of a point: its lower node and the weights along each axis.
-  const auto stencil = [&](const Eigen::Vector3d& x, Eigen::Vector3i& lower, Eigen::Vector3d& t) {
-    const Eigen::Vector3d g = (x - m_grid.origin()) / dx;
-    for (int a = 0; a < 3; ++a) {
-      lower[a] = std::clamp(static_cast<int>(std::floor(g[a])), 0, std::max(0, last[a]));
-      t[a] = std::clamp(g[a] - lower[a], 0.0, 1.0);
-    }
-  };
-  const auto barycentre = [](const sdk::ShellSurface& s, int tri) {
+  // The trilinear stencil of each two-way triangle's barycentre (its lower node and the
+  // weights along each axis), once per triangle for steps 3 and 4; shells in set order.
+  m_stencils.clear();
+  for (const auto& s : set) {
+    if (!s.receives_fluid_forces) continue;
     const auto& T = *s.triangles;
-    return ((s.positions.row(T(tri, 0)) + s.positions.row(T(tri, 1)) + s.positions.row(T(tri, 2))) /
-            3.0)
-        .transpose()
-        .eval();
-  };
+    const size_t first = m_stencils.size();
+    const int count = s.triangle_count();
+    m_stencils.resize(first + count);
+#pragma omp parallel for schedule(static)
+    for (int tri = 0; tri < count; ++tri) {
+      const Eigen::Vector3d x = (s.positions.row(T(tri, 0)) + s.positions.row(T(tri, 1)) +
+                                 s.positions.row(T(tri, 2)))
+                                    .transpose() /
+                                3.0;
+      const Eigen::Vector3d g = (x - m_grid.origin()) / dx;
+      TriangleStencil& st = m_stencils[first + tri];
+      for (int a = 0; a < 3; ++a) {
+        st.lower[a] = std::clamp(static_cast<int>(std::floor(g[a])), 0, std::max(0, last[a]));
+        st.t[a] = std::clamp(g[a] - st.lower[a], 0.0, 1.0);
+      }
+    }
+  }
 
   // Step 3: spread the jumps to every node of the triangles' stencils.
   std::vector<std::int64_t> candidates;
-  for (const auto& s : set) {
-    if (!s.receives_fluid_forces) continue;
-    for (int tri = 0; tri < s.triangle_count(); ++tri) {
-      Eigen::Vector3i lower;
-      Eigen::Vector3d t;
-      stencil(barycentre(s, tri), lower, t);
-      for (int corner = 0; corner < 8; ++corner)
-        candidates.push_back(m_grid.index(
-            Location::Node, lower + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2)));
-    }
-  }
+  candidates.reserve(8 * m_stencils.size());
+  for (const TriangleStencil& st : m_stencils)
+    for (int corner = 0; corner < 8; ++corner)
+      candidates.push_back(m_grid.index(
+          Location::Node, st.lower + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2)));
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
   const geometry::GaussJacobiRefill refill(m_grid, Location::Node, m_settings.spread_layers);
@@ -237,6 +239,7 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
   m_touched.insert(m_touched.end(), candidates.begin(), candidates.end());
 
   // Step 4: D at the barycentre, [p] = D·n/|n|₁ over the axes with data, F = −[p] A n.
+  size_t offset = 0;  // of the shell's triangles in m_stencils
   for (size_t si = 0; si < set.size(); ++si) {
     const auto& s = set[si];
     if (!s.receives_fluid_forces) continue;
@@ -253,9 +256,8 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
       const double a_norm = area.norm();
       if (a_norm == 0.0) continue;
       const Eigen::Vector3d normal = area / a_norm;
-      Eigen::Vector3i lower;
-      Eigen::Vector3d t;
-      stencil(barycentre(s, tri), lower, t);
+      const Eigen::Vector3i& lower = m_stencils[offset + tri].lower;
+      const Eigen::Vector3d& t = m_stencils[offset + tri].t;
       double along = 0.0;  // Σ n_a D_a over axes with data
       double weight = 0.0; // Σ |n_a| over the same axes
       for (int a = 0; a < 3; ++a) {
@@ -285,6 +287,7 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
     }
     stats.triangles_without_jump += missing;
     stats.total_force += Eigen::Vector3d(fx, fy, fz);
+    offset += count;
   }
 }
 

@@ -108,6 +108,12 @@ class CouplingPressure {
   std::array<std::vector<double>, 3> m_node_jump;
   std::array<std::vector<std::uint8_t>, 3> m_node_valid;
   std::vector<std::int64_t> m_touched;
+  /// Step 3–4: trilinear stencil of each two-way triangle's barycentre.
+  struct TriangleStencil {
+    Eigen::Vector3i lower;  ///< lowest node of the cell
+    Eigen::Vector3d t;      ///< weights along x, y, z in [0, 1]
+  };
+  std::vector<TriangleStencil> m_stencils;
 };
 
 }  // namespace shellflow::grid_fluid
