@@ -171,13 +171,14 @@ std::vector<sdk::Positions> GridFluid::velocities_of(sdk::ShellSet shells) {
   return v;
 }
 
-void GridFluid::ensure_geometry(std::unique_ptr<ShellGeometry>& cache,
+bool GridFluid::ensure_geometry(std::unique_ptr<ShellGeometry>& cache,
                                 sdk::ShellSet shells) const {
   if (!cache || !cache->same_positions(shells)) {
     cache = std::make_unique<ShellGeometry>(shells, m_epsilon);
-  } else {
-    cache->set_velocities(velocities_of(shells));
+    return true;
   }
+  cache->set_velocities(velocities_of(shells));
+  return false;
 }
 
 void GridFluid::build_band(sdk::ShellSet shells_n, sdk::ShellSet shells_np1, double margin) {
@@ -221,9 +222,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   const bool shells = !shells_n.empty() || !shells_np1.empty();
   ShellGeometry none;
   if (shells) {
-    const bool reuse = m_geometry_n && m_geometry_n->same_positions(shells_n);
-    ensure_geometry(m_geometry_n, shells_n);
-    if (!reuse) m_nodes_current = false;
+    if (ensure_geometry(m_geometry_n, shells_n)) m_nodes_current = false;
   } else {
     m_geometry_n.reset();
   }
@@ -292,11 +291,11 @@ void GridFluid::coupling_forces(double dt, sdk::ShellSet shells,
     m_logged_coupling = true;
   }
   if (!two_way) return;  // skip what the scene does not need: no second solve
-  const bool same = m_geometry_np1 && m_geometry_np1->same_positions(shells);
-  ensure_geometry(m_geometry_np1, shells);
-  if (!same || !m_band_used) build_band(shells, shells, 2.0 * m_mac.dx());
-  m_stats.coupling = coupling_pressure().compute(m_mac, dt, m_boundary, *m_geometry_np1, m_band, shells,
-                                         triangle_forces);
+  // Same positions as advect's n+1 shells: its band (margin >= 2Δx) still covers them.
+  if (ensure_geometry(m_geometry_np1, shells) || !m_band_used)
+    build_band(shells, shells, 2.0 * m_mac.dx());
+  m_stats.coupling = coupling_pressure().compute(m_mac, dt, m_boundary, *m_geometry_np1,
+                                                 m_band, shells, triangle_forces);
 }
 
 void GridFluid::project(double dt, sdk::ShellSet shells,

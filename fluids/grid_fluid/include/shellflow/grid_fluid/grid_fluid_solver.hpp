@@ -92,8 +92,8 @@ class GridFluid final : public sdk::FluidSolver {
   double smoke_mass() const;
 
  private:
-  /// Makes `cache` hold `shells` (rebuilds unless the positions match).
-  void ensure_geometry(std::unique_ptr<ShellGeometry>& cache, sdk::ShellSet shells) const;
+  /// Makes `cache` hold `shells` (rebuilds unless the positions match); true when rebuilt.
+  bool ensure_geometry(std::unique_ptr<ShellGeometry>& cache, sdk::ShellSet shells) const;
   static std::vector<sdk::Positions> velocities_of(sdk::ShellSet shells);
   /// The §5.1 solver, made on first use (its arrays cost memory only in two-way scenes).
   CouplingPressure& coupling_pressure();
