@@ -6,9 +6,6 @@ namespace shellflow::cloth {
 
 namespace {
 
-// Rebuild the hierarchy when its refit cost grows past this factor of a fresh build's
-// (the framework's TriangleBvh default, measured in bench_geometry).
-constexpr double kMaxDegradation = 2.0;
 // Below this many triangles the loops run serially: a parallel region costs more.
 constexpr int kParallelThreshold = 2048;
 
@@ -61,7 +58,10 @@ void ContactBroadPhase::set_topology(const std::vector<std::array<int, 3>>& tria
     m_obstacle_triangle[t] =
         tri[0] >= cloth_nodes && tri[1] >= cloth_nodes && tri[2] >= cloth_nodes;
   }
-  m_bvh = geometry::Bvh();
+  m_cloth_triangles.clear();
+  for (int t = 0; t < triangle_count; ++t)
+    if (!m_obstacle_triangle[t]) m_cloth_triangles.push_back(t);
+  m_hierarchy = SelfCollisionHierarchy();
 }
 
 void ContactBroadPhase::find(const Vectors& a, const Vectors& b, double distance,
@@ -95,15 +95,34 @@ void ContactBroadPhase::find(const Vectors& a, const Vectors& b, double distance
       m_triangle_boxes[t].extend(m_node_boxes[tri[2]]);
     }
   }
-  if (m_bvh.primitive_count() != triangle_count)
-    m_bvh.build(m_triangle_boxes);
-  else
-    m_bvh.refit_or_rebuild(m_triangle_boxes, kMaxDegradation);
+
+  // Overlapping triangle pairs: the cloth's own (unless self-collision is off), then
+  // each other solid's triangle against the cloth.
+  const int cloth_count = static_cast<int>(m_cloth_triangles.size());
+  m_cloth_boxes.resize(cloth_count);
+  for (int c = 0; c < cloth_count; ++c) m_cloth_boxes[c] = m_triangle_boxes[m_cloth_triangles[c]];
+  if (m_hierarchy.triangle_count() != cloth_count) {
+    std::vector<std::array<int, 3>> cloth;
+    for (int t : m_cloth_triangles) cloth.push_back(m_triangles[t]);
+    m_hierarchy.build(cloth, a);
+  }
+  m_hierarchy.update(m_cloth_boxes, a, b);
+  m_culled_patches = 0;
+  m_triangle_pairs.clear();
+  if (m_self) m_culled_patches = m_hierarchy.self_pairs(a, b, m_triangle_pairs);
+  for (auto& pair : m_triangle_pairs)
+    pair = {m_cloth_triangles[pair[0]], m_cloth_triangles[pair[1]]};
+  for (int t = 0; t < triangle_count; ++t)
+    if (m_obstacle_triangle[t])
+      m_hierarchy.for_each_overlap(m_triangle_boxes[t], [&](int c) {
+        m_triangle_pairs.push_back({m_cloth_triangles[c], t});
+      });
 
   const auto has_node = [](const std::array<int, 3>& tri, int k) {
     return tri[0] == k || tri[1] == k || tri[2] == k;
   };
-#pragma omp parallel if (triangle_count > kParallelThreshold)
+  const long pair_count = static_cast<long>(m_triangle_pairs.size());
+#pragma omp parallel if (pair_count > kParallelThreshold)
   {
     std::vector<std::array<int, 2>> pt, ee;
     const auto point_triangle = [&](int t_node, int t) {
@@ -113,25 +132,19 @@ void ContactBroadPhase::find(const Vectors& a, const Vectors& b, double distance
           pt.push_back({k, t});
       }
     };
-#pragma omp for schedule(dynamic, 256) nowait
-    for (int t1 = 0; t1 < triangle_count; ++t1) {
-      const auto& box = m_triangle_boxes[t1];
-      m_bvh.traverse_wide(geometry::WideBoxQuery(box), [&](int t2) {
-        if (t2 <= t1 || !box.overlaps(m_triangle_boxes[t2])) return false;
-        if (m_obstacle_triangle[t1] && m_obstacle_triangle[t2]) return false;
-        if (!m_self && !m_obstacle_triangle[t1] && !m_obstacle_triangle[t2]) return false;
-        point_triangle(t1, t2);
-        point_triangle(t2, t1);
-        for (int p = m_edge_start[t1]; p < m_edge_start[t1 + 1]; ++p)
-          for (int q = m_edge_start[t2]; q < m_edge_start[t2 + 1]; ++q) {
-            const int e = m_owned_edges[p], f = m_owned_edges[q];
-            const auto &ea = m_edges[e], &eb = m_edges[f];
-            if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
-            if (m_edge_boxes[e].overlaps(m_edge_boxes[f]))
-              ee.push_back({std::min(e, f), std::max(e, f)});
-          }
-        return false;
-      });
+#pragma omp for schedule(dynamic, 1024) nowait
+    for (long i = 0; i < pair_count; ++i) {
+      const auto [t1, t2] = m_triangle_pairs[i];
+      point_triangle(t1, t2);
+      point_triangle(t2, t1);
+      for (int p = m_edge_start[t1]; p < m_edge_start[t1 + 1]; ++p)
+        for (int q = m_edge_start[t2]; q < m_edge_start[t2 + 1]; ++q) {
+          const int e = m_owned_edges[p], f = m_owned_edges[q];
+          const auto &ea = m_edges[e], &eb = m_edges[f];
+          if (ea[0] == eb[0] || ea[0] == eb[1] || ea[1] == eb[0] || ea[1] == eb[1]) continue;
+          if (m_edge_boxes[e].overlaps(m_edge_boxes[f]))
+            ee.push_back({std::min(e, f), std::max(e, f)});
+        }
     }
 #pragma omp critical
     {

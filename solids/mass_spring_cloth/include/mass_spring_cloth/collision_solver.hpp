@@ -14,8 +14,9 @@
 //     pair collides. A rigid translation cannot make a zone's own elements collide.
 // Nodes of other solids' surfaces enter as extra nodes with zero inverse mass, so the
 // same passes keep the cloth on its side of those surfaces. Candidate pairs come from
-// ContactBroadPhase (framework box hierarchy, refit per step) for the step's motion with a
-// margin, and are reused by the later passes while no node strays beyond that margin.
+// ContactBroadPhase (a fixed patch hierarchy, refit per step, whose flat patches skip
+// self-collision by normal cones) for the step's motion with a margin, and are reused by
+// the later passes while no node strays beyond that margin.
 // Contacts are applied in the order of their pair, so the result does not depend on the
 // thread count or on the hierarchy's history (save/restore stays bit-for-bit).
 

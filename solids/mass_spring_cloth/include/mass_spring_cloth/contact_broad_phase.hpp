@@ -1,22 +1,24 @@
 #pragma once
 // Broad phase of cloth contact: which point–triangle and edge–edge pairs can come within
 // a distance during a step. Each triangle gets the box of its corners' motion (start to
-// end), inflated; the boxes go into the framework's box hierarchy (geometry::Bvh), which
-// is refit every step and rebuilt only when the refit tree has degraded. Overlapping
-// triangle pairs are found by one box query per triangle, and each overlapping pair
-// (t1, t2) yields the pairs of the vertices and edges the two triangles *own*: every
-// vertex and edge is owned by exactly one of its triangles (the first), so each feature
-// pair is produced once, without a global sort or hash (the feature assignment of
-// Curtis, Tamstorf, Manocha 2008, "Fast collision detection for deformable models using
-// representative-triangles"). A feature's box lies inside each of its triangles' boxes,
-// so every feature pair whose boxes overlap is found.
+// end), inflated. The cloth's triangles sit in a fixed patch hierarchy
+// (self_collision_hierarchy.hpp), refit every step, whose descent yields the cloth's own
+// overlapping triangle pairs minus those inside patches that cannot collide with
+// themselves (normal cones; a flat sheet yields none); other solids' triangles are
+// queried against the same hierarchy. Each overlapping pair (t1, t2) yields the pairs of
+// the vertices and edges the two triangles *own*: every vertex and edge is owned by
+// exactly one of its triangles (the first), so each feature pair is produced once,
+// without a global sort or hash (the feature assignment of Curtis, Tamstorf, Manocha
+// 2008, "Fast collision detection for deformable models using representative-triangles").
+// A feature's box lies inside each of its triangles' boxes, so every feature pair whose
+// boxes overlap is found.
 
 #include <Eigen/Core>
 #include <array>
 #include <vector>
 
+#include "mass_spring_cloth/self_collision_hierarchy.hpp"
 #include "shellflow/geometry/aabb.hpp"
-#include "shellflow/geometry/bvh.hpp"
 
 namespace shellflow::cloth {
 
@@ -37,8 +39,12 @@ class ContactBroadPhase {
   const std::vector<std::array<int, 2>>& edges() const { return m_edges; }
 
   /// Pairs whose features' boxes over the motion a[k] -> b[k] come within `distance`
-  /// of each other (each box is inflated by distance / 2). Order is unspecified.
+  /// of each other (each box is inflated by distance / 2), except pairs inside a cloth
+  /// patch that cannot collide with itself. Order is unspecified. The first call after
+  /// set_topology() shapes the hierarchy by the positions `a`.
   void find(const Vectors& a, const Vectors& b, double distance, ContactCandidates& out);
+  /// Self-collision-free patches culled by the last find().
+  int culled_patches() const { return m_culled_patches; }
 
  private:
   std::vector<std::array<int, 3>> m_triangles;
@@ -49,8 +55,11 @@ class ContactBroadPhase {
   // Features owned by each triangle, CSR by triangle.
   std::vector<int> m_node_start, m_owned_nodes, m_edge_start, m_owned_edges;
 
-  geometry::Bvh m_bvh;
-  std::vector<geometry::Aabb> m_node_boxes, m_edge_boxes, m_triangle_boxes;
+  std::vector<int> m_cloth_triangles;  ///< triangles with a cloth node, in hierarchy order
+  SelfCollisionHierarchy m_hierarchy;
+  int m_culled_patches = 0;
+  std::vector<geometry::Aabb> m_node_boxes, m_edge_boxes, m_triangle_boxes, m_cloth_boxes;
+  std::vector<std::array<int, 2>> m_triangle_pairs;
 };
 
 }  // namespace shellflow::cloth

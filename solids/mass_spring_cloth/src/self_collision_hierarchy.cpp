@@ -1,0 +1,296 @@
+#include "mass_spring_cloth/self_collision_hierarchy.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace shellflow::cloth {
+
+namespace {
+
+// A patch passes the cone test when every normal is more than this cosine from the
+// plane normal to its axis (within about 88.9 degrees of the axis): a margin over the
+// round-off of normals and projections, so a patch on the edge of the test is refused.
+constexpr double kMinCosine = 0.02;
+// Boundary boxes in the projection are padded by this fraction of the coordinates'
+// magnitude, so round-off cannot separate boundary edges that touch.
+constexpr double kRelativePad = 1e-9;
+// Node pairs with up to this many triangles together are one parallel task.
+constexpr int kTaskTriangles = 512;
+// Below this many triangles the per-step loops run serially.
+constexpr int kParallelThreshold = 2048;
+
+int find_root(std::vector<int>& parent, int k) {
+  while (parent[k] != k) {
+    parent[k] = parent[parent[k]];
+    k = parent[k];
+  }
+  return k;
+}
+
+}  // namespace
+
+void SelfCollisionHierarchy::build(const std::vector<std::array<int, 3>>& triangles,
+                                   const Vectors& positions) {
+  m_triangles = triangles;
+  m_nodes.clear();
+  m_boundary.clear();
+  const int n = static_cast<int>(triangles.size());
+  m_order.resize(n);
+  std::iota(m_order.begin(), m_order.end(), 0);
+  if (n == 0) return;
+  std::vector<Eigen::Vector3d> centres(n);
+  for (int t = 0; t < n; ++t)
+    centres[t] =
+        (positions[triangles[t][0]] + positions[triangles[t][1]] + positions[triangles[t][2]]) /
+        3.0;
+  m_nodes.reserve(2 * static_cast<size_t>(n));
+  build_recursive(m_order, centres, 0, n);
+  for (auto& node : m_nodes)
+    if (node.count > 1) find_disc_boundary(node);
+}
+
+int SelfCollisionHierarchy::build_recursive(std::vector<int>& order,
+                                            const std::vector<Eigen::Vector3d>& centres, int first,
+                                            int count) {
+  const int index = static_cast<int>(m_nodes.size());
+  m_nodes.emplace_back();
+  m_nodes[index].first = first;
+  m_nodes[index].count = count;
+  if (count == 1) return index;
+  // Median split along the widest extent of the centres (ties broken by index, so the
+  // tree does not depend on the standard library's partition).
+  geometry::Aabb bounds;
+  for (int i = first; i < first + count; ++i) bounds.extend(centres[order[i]]);
+  int axis = 0;
+  bounds.extent().maxCoeff(&axis);
+  const int middle = first + count / 2;
+  std::nth_element(order.begin() + first, order.begin() + middle, order.begin() + first + count,
+                   [&](int s, int t) {
+                     return centres[s][axis] < centres[t][axis] ||
+                            (centres[s][axis] == centres[t][axis] && s < t);
+                   });
+  const int left = build_recursive(order, centres, first, middle - first);
+  const int right = build_recursive(order, centres, middle, first + count - middle);
+  m_nodes[index].left = left;
+  m_nodes[index].right = right;
+  return index;
+}
+
+void SelfCollisionHierarchy::find_disc_boundary(Node& node) {
+  // Edges of the node's triangles: (low node, high node, local triangle).
+  std::vector<std::array<int, 3>> edges;
+  std::vector<int> vertices;
+  for (int i = 0; i < node.count; ++i) {
+    const auto& tri = m_triangles[m_order[node.first + i]];
+    for (int k = 0; k < 3; ++k) {
+      const int p = tri[k], q = tri[(k + 1) % 3];
+      edges.push_back({std::min(p, q), std::max(p, q), i});
+      vertices.push_back(p);
+    }
+  }
+  std::sort(edges.begin(), edges.end());
+  std::sort(vertices.begin(), vertices.end());
+  const long vertex_count = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
+  // Disc: edge-connected, every edge in one or two triangles, every node on the boundary
+  // in exactly two boundary edges (no pinched nodes), Euler characteristic V - E + F = 1.
+  std::vector<int> parent(node.count);
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<std::array<int, 2>> boundary;
+  long edge_count = 0;
+  for (size_t e = 0; e < edges.size();) {
+    size_t end = e + 1;
+    while (end < edges.size() && edges[end][0] == edges[e][0] && edges[end][1] == edges[e][1])
+      ++end;
+    if (end - e > 2) return;
+    if (end - e == 1)
+      boundary.push_back({edges[e][0], edges[e][1]});
+    else
+      parent[find_root(parent, edges[e][2])] = find_root(parent, edges[e + 1][2]);
+    ++edge_count;
+    e = end;
+  }
+  if (vertex_count - edge_count + node.count != 1) return;
+  const int root = find_root(parent, 0);
+  for (int i = 1; i < node.count; ++i)
+    if (find_root(parent, i) != root) return;
+  std::vector<int> ends;
+  for (const auto& e : boundary) ends.push_back(e[0]), ends.push_back(e[1]);
+  std::sort(ends.begin(), ends.end());
+  for (size_t i = 0; i < ends.size(); i += 2)
+    if (ends[i + 1] != ends[i] || (i + 2 < ends.size() && ends[i + 2] == ends[i])) return;
+  node.boundary_first = static_cast<int>(m_boundary.size());
+  m_boundary.insert(m_boundary.end(), boundary.begin(), boundary.end());
+  node.boundary_end = static_cast<int>(m_boundary.size());
+}
+
+void SelfCollisionHierarchy::update(const std::vector<geometry::Aabb>& triangle_boxes,
+                                    const Vectors& a, const Vectors& b) {
+  const int n = static_cast<int>(m_triangles.size());
+  m_generators.resize(n);
+  m_degenerate.resize(n);
+#pragma omp parallel for schedule(static) if (n > kParallelThreshold)
+  for (int t = 0; t < n; ++t) {
+    const auto& tri = m_triangles[t];
+    const Eigen::Vector3d e1a = a[tri[1]] - a[tri[0]], e2a = a[tri[2]] - a[tri[0]];
+    const Eigen::Vector3d e1b = b[tri[1]] - b[tri[0]], e2b = b[tri[2]] - b[tri[0]];
+    // n(t) = (1-t)^2 n_start + 2t(1-t) n_middle + t^2 n_end (Tang et al. 2009, §4.1).
+    const std::array<Eigen::Vector3d, 3> normals{
+        e1a.cross(e2a), 0.5 * (e1a.cross(e2b) + e1b.cross(e2a)), e1b.cross(e2b)};
+    auto& g = m_generators[t];
+    for (int k = 0; k < 3; ++k) {
+      const double norm = normals[k].norm();
+      g[k] = norm > 0.0 ? Eigen::Vector3d(normals[k] / norm) : Eigen::Vector3d::Zero();
+    }
+    m_degenerate[t] = g[0].isZero(0.0) || g[2].isZero(0.0);
+  }
+  // Boxes and cone axes bottom-up: children come after their parent in m_nodes.
+  for (int i = static_cast<int>(m_nodes.size()) - 1; i >= 0; --i) {
+    Node& node = m_nodes[i];
+    if (node.left < 0) {
+      const int t = m_order[node.first];
+      node.box = triangle_boxes[t];
+      node.normal_sum = m_generators[t][0] + m_generators[t][2];
+    } else {
+      node.box = m_nodes[node.left].box;
+      node.box.extend(m_nodes[node.right].box);
+      node.normal_sum = m_nodes[node.left].normal_sum + m_nodes[node.right].normal_sum;
+    }
+  }
+}
+
+bool SelfCollisionHierarchy::self_collision_free(const Node& node, const Vectors& a,
+                                                 const Vectors& b) const {
+  if (node.count == 1) return true;  // a triangle's features all share its nodes
+  if (node.boundary_first < 0) return false;
+  const double axis_norm = node.normal_sum.norm();
+  if (!(axis_norm > 0.0)) return false;
+  const Eigen::Vector3d axis = node.normal_sum / axis_norm;
+  // Cone: every normal generator of every triangle within 90 degrees (less the margin).
+  for (int i = node.first; i < node.first + node.count; ++i) {
+    const int t = m_order[i];
+    if (m_degenerate[t]) return false;
+    for (const auto& g : m_generators[t])
+      if (!g.isZero(0.0) && !(axis.dot(g) > kMinCosine)) return false;
+  }
+  // Boundary: projected along the axis, boundary edges that share no node must stay
+  // apart over the whole step; each edge's sweep lies in the box of its four corners.
+  Eigen::Vector3d u = axis.unitOrthogonal();
+  const Eigen::Vector3d w = axis.cross(u);
+  struct Box2 {
+    double x0, x1, y0, y1;
+    int p, q;
+  };
+  std::vector<Box2> boxes;
+  boxes.reserve(node.boundary_end - node.boundary_first);
+  double magnitude = 0.0;
+  for (int e = node.boundary_first; e < node.boundary_end; ++e) {
+    const auto [p, q] = m_boundary[e];
+    Box2 box{INFINITY, -INFINITY, INFINITY, -INFINITY, p, q};
+    for (const Eigen::Vector3d* x : {&a[p], &a[q], &b[p], &b[q]}) {
+      const double s = u.dot(*x), r = w.dot(*x);
+      box.x0 = std::min(box.x0, s), box.x1 = std::max(box.x1, s);
+      box.y0 = std::min(box.y0, r), box.y1 = std::max(box.y1, r);
+      magnitude = std::max(magnitude, x->cwiseAbs().maxCoeff());
+    }
+    boxes.push_back(box);
+  }
+  const double pad = kRelativePad * magnitude;
+  std::sort(boxes.begin(), boxes.end(), [](const Box2& s, const Box2& t) { return s.x0 < t.x0; });
+  for (size_t i = 0; i < boxes.size(); ++i)
+    for (size_t j = i + 1; j < boxes.size() && boxes[j].x0 <= boxes[i].x1 + pad; ++j) {
+      const Box2 &s = boxes[i], &t = boxes[j];
+      if (s.p == t.p || s.p == t.q || s.q == t.p || s.q == t.q) continue;
+      if (s.y0 <= t.y1 + pad && t.y0 <= s.y1 + pad) return false;
+    }
+  return true;
+}
+
+void SelfCollisionHierarchy::collect_tasks(int x, int y, const Vectors& a, const Vectors& b,
+                                           std::vector<std::array<int, 2>>& tasks,
+                                           int& culled) const {
+  const Node &nx = m_nodes[x], &ny = m_nodes[y];
+  if (x == y) {
+    if (nx.left < 0) return;
+    if (self_collision_free(nx, a, b)) {
+      ++culled;
+      return;
+    }
+    if (nx.count <= kTaskTriangles) {
+      tasks.push_back({x, x});
+      return;
+    }
+    collect_tasks(nx.left, nx.left, a, b, tasks, culled);
+    collect_tasks(nx.right, nx.right, a, b, tasks, culled);
+    collect_tasks(nx.left, nx.right, a, b, tasks, culled);
+    return;
+  }
+  if (!nx.box.overlaps(ny.box)) return;
+  if (nx.count + ny.count <= kTaskTriangles || (nx.left < 0 && ny.left < 0)) {
+    tasks.push_back({x, y});
+    return;
+  }
+  if (ny.left < 0 || (nx.left >= 0 && nx.count >= ny.count)) {
+    collect_tasks(nx.left, y, a, b, tasks, culled);
+    collect_tasks(nx.right, y, a, b, tasks, culled);
+  } else {
+    collect_tasks(x, ny.left, a, b, tasks, culled);
+    collect_tasks(x, ny.right, a, b, tasks, culled);
+  }
+}
+
+void SelfCollisionHierarchy::self_recursive(int x, const Vectors& a, const Vectors& b,
+                                            std::vector<std::array<int, 2>>& out,
+                                            int& culled) const {
+  const Node& node = m_nodes[x];
+  if (node.left < 0) return;
+  if (self_collision_free(node, a, b)) {
+    ++culled;
+    return;
+  }
+  self_recursive(node.left, a, b, out, culled);
+  self_recursive(node.right, a, b, out, culled);
+  pair_recursive(node.left, node.right, out);
+}
+
+void SelfCollisionHierarchy::pair_recursive(int x, int y,
+                                            std::vector<std::array<int, 2>>& out) const {
+  const Node &nx = m_nodes[x], &ny = m_nodes[y];
+  if (!nx.box.overlaps(ny.box)) return;
+  if (nx.left < 0 && ny.left < 0) {
+    out.push_back({m_order[nx.first], m_order[ny.first]});
+  } else if (ny.left < 0 || (nx.left >= 0 && nx.count >= ny.count)) {
+    pair_recursive(nx.left, y, out);
+    pair_recursive(nx.right, y, out);
+  } else {
+    pair_recursive(x, ny.left, out);
+    pair_recursive(x, ny.right, out);
+  }
+}
+
+int SelfCollisionHierarchy::self_pairs(const Vectors& a, const Vectors& b,
+                                       std::vector<std::array<int, 2>>& out) const {
+  out.clear();
+  if (m_nodes.empty()) return 0;
+  std::vector<std::array<int, 2>> tasks;
+  int culled = 0;
+  collect_tasks(0, 0, a, b, tasks, culled);
+  const int task_count = static_cast<int>(tasks.size());
+#pragma omp parallel if (task_count > 1 && triangle_count() > kParallelThreshold) reduction(+ : culled)
+  {
+    std::vector<std::array<int, 2>> local;
+#pragma omp for schedule(dynamic, 1) nowait
+    for (int i = 0; i < task_count; ++i) {
+      if (tasks[i][0] == tasks[i][1])
+        self_recursive(tasks[i][0], a, b, local, culled);
+      else
+        pair_recursive(tasks[i][0], tasks[i][1], local);
+    }
+#pragma omp critical
+    out.insert(out.end(), local.begin(), local.end());
+  }
+  return culled;
+}
+
+}  // namespace shellflow::cloth
