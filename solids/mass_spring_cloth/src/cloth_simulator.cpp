@@ -384,6 +384,7 @@ void ClothSimulator::step(double t, double h) {
     m_stats.collisions.ccd_collisions += c.ccd_collisions;
     m_stats.collisions.impact_zones += c.impact_zones;
     m_stats.collisions.candidate_pairs = c.candidate_pairs;
+    m_stats.collisions.culled_patches = c.culled_patches;
     m_stats.collisions.broad_phases += c.broad_phases;
     for (int k = 0; k < n; ++k) v1.segment<3>(3 * k) = v[k];
   }

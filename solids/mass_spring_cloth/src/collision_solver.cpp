@@ -100,6 +100,7 @@ void CollisionSolver::update_candidates(const Vectors& x0, const Vectors& v, dou
   ++stats.broad_phases;
   stats.candidate_pairs =
       static_cast<int>(m_candidates.point_triangle.size() + m_candidates.edge_edge.size());
+  stats.culled_patches = m_broad_phase.culled_patches();
 }
 
 void CollisionSolver::proximity_contacts(const Vectors& x0, const Vectors& v,

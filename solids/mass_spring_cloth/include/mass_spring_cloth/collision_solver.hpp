@@ -34,6 +34,7 @@ struct CollisionStatistics {
   int impact_zones = 0;     ///< zones left after the impact-zone loop
   int candidate_pairs = 0;  ///< point–triangle + edge–edge pairs from the last broad phase
   int broad_phases = 0;     ///< broad-phase searches (the candidates are reused in between)
+  int culled_patches = 0;   ///< cloth patches skipped as self-collision-free, last broad phase
 };
 
 class CollisionSolver {
