@@ -34,7 +34,7 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary,
     std::fill(closed.begin(), closed.end(), 0);
     const Location loc = face_location(a);
     boundary.for_each_closed_face(m_grid, a, [&](std::int64_t f, const FaceCondition&) {
-      closed[f] = 1;  // walls and inflow faces: Neumann
+      closed[f] = 1;  // walls, inflow and source faces: Neumann
     });
     // Fig. 5: the segment between the two cell centres meets a shell.
     const auto list = band.samples(loc);
@@ -102,8 +102,9 @@ Eigen::VectorXd CouplingPressure::right_hand_side(const MacGrid& mac) const {
 
 void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
                              CouplingStats& stats) {
-  // Only one-way shells close interior faces here (two-way shell faces stay open).
-  label_fluid_regions(m_grid, m_closed, boundary, m_regions, stats.kinematic_faces > 0);
+  // One-way shells and sources close interior faces here (two-way shell faces stay open).
+  label_fluid_regions(m_grid, m_closed, boundary, m_regions,
+                      stats.kinematic_faces > 0 || boundary.has_source_faces());
   const std::int64_t cells = m_grid.size(Location::Cell);
   for (int r = 0; r < m_regions.count(); ++r) {
     if (m_regions.enclosed[r] == 0) continue;

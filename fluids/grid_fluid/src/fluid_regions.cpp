@@ -28,6 +28,7 @@ void label_fluid_regions(const grid::UniformGrid& grid,
   const std::int64_t cells = grid.size(Location::Cell);
   out.region.resize(cells);
   out.enclosed.clear();
+  out.sealed.clear();
   std::vector<std::int64_t> counts;
   const bool open_side[3][2] = {{boundary.side(0, 0).type == BoundaryType::Open,
                                  boundary.side(0, 1).type == BoundaryType::Open},
@@ -42,6 +43,7 @@ void label_fluid_regions(const grid::UniformGrid& grid,
     for (int a = 0; a < 3; ++a) open = open || open_side[a][0] || open_side[a][1];
     std::fill(out.region.begin(), out.region.end(), 0);
     out.enclosed.push_back(open ? 0 : 1);
+    out.sealed.push_back(0);
     counts.push_back(cells);
   } else {
     std::fill(out.region.begin(), out.region.end(), -1);
@@ -55,11 +57,13 @@ void label_fluid_regions(const grid::UniformGrid& grid,
       if (out.region[seed] >= 0) continue;
       const int r = out.count();
       bool open = false;
+      bool any_face = false;  // a non-closed face: the cell has a pressure unknown
       std::int64_t size = 0;
       out.region[seed] = r;
       stack.push_back(seed);
       // Visits the neighbour across a non-closed face, or notes an open domain face.
       const auto visit = [&](bool inside, std::int64_t nb, bool open_domain_face) {
+        any_face = true;
         if (!inside) {
           open = open || open_domain_face;
         } else if (out.region[nb] < 0) {
@@ -83,6 +87,7 @@ void label_fluid_regions(const grid::UniformGrid& grid,
         if (!closed_z[c + plane]) visit(k + 1 < n.z(), c + plane, open_side[2][1]);
       }
       out.enclosed.push_back(open ? 0 : 1);
+      out.sealed.push_back(any_face ? 0 : 1);
       counts.push_back(size);
     }
   }

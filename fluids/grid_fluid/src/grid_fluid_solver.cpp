@@ -247,6 +247,14 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   // 3. Sources and body forces on the nodes.
   for (const auto& s : m_sources)
     m_stats.source_nodes += s.apply(t, m_mac.grid(), m_nodes, m_temperature);
+  // Held on the faces through this step's pressure solves; the emitters add volume only
+  // where an open side lets it out (a closed box keeps its volume).
+  for (int a = 0; a < 3; ++a) {
+    std::vector<SourceFace> faces;
+    for (const auto& s : m_sources)
+      s.append_faces(t, m_mac.grid(), a, m_boundary.has_open_side(), faces);
+    m_boundary.set_source_faces(a, std::move(faces));
+  }
   if (m_buoyancy.density_alpha != 0.0 || (m_temperature && m_buoyancy.temperature_beta != 0.0))
     m_stats.max_force = m_forces.add_buoyancy(m_nodes, dt, m_buoyancy, m_temperature);
   if (m_vorticity > 0.0)

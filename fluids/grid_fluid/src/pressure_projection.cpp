@@ -35,7 +35,7 @@ void PressureProjection::mark_neumann(MacGrid& mac, const DomainBoundary& bounda
     std::fill(flags.begin(), flags.end(), 0);
     const Location loc = face_location(a);
     boundary.for_each_closed_face(m_grid, a, [&](std::int64_t f, const FaceCondition&) {
-      flags[f] = 1;  // wall and inflow faces of the domain
+      flags[f] = 1;  // wall and inflow faces of the domain, source faces
     });
     if (band == nullptr || shells.empty()) continue;
     // Fig. 5: a ray between the two cell centres that meets a shell closes the face.
@@ -76,7 +76,7 @@ void PressureProjection::correct_compatibility(MacGrid& mac, ProjectionStats& st
   // surrounds it, and the surrounding region then through its other faces (walls).
   std::vector<int> order;
   for (int r = 0; r < regions; ++r)
-    if (m_regions.enclosed[r] != 0) order.push_back(r);
+    if (m_regions.enclosed[r] != 0 && m_regions.sealed[r] == 0) order.push_back(r);
   std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
     return m_regions.start[x + 1] - m_regions.start[x] < m_regions.start[y + 1] - m_regions.start[y];
   });
@@ -184,7 +184,8 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
   ProjectionStats stats;
   apply_boundary_velocities(mac, boundary);
   mark_neumann(mac, boundary, shells, band, stats);
-  label_fluid_regions(m_grid, m_neumann, boundary, m_regions, stats.shell_neumann_faces > 0);
+  label_fluid_regions(m_grid, m_neumann, boundary, m_regions,
+                      stats.shell_neumann_faces > 0 || boundary.has_source_faces());
   const int regions = static_cast<int>(m_regions.enclosed.size());
   stats.regions = regions;
   for (const auto e : m_regions.enclosed) stats.enclosed_regions += e;
@@ -267,6 +268,8 @@ void PressureProjection::apply_pressure(MacGrid& mac) const {
 double PressureProjection::max_cell_divergence(const MacGrid& mac) const {
   Eigen::VectorXd flux;
   cell_fluxes(mac, flux);
+  for (int r = 0; r < m_regions.count(); ++r)  // a source sets these cells' divergence
+    if (m_regions.sealed[r] != 0) flux[m_regions.cells[m_regions.start[r]]] = 0.0;
   return flux.lpNorm<Eigen::Infinity>();
 }
 

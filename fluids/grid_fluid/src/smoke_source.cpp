@@ -12,7 +12,10 @@ sdk::Schema with_common_fields(sdk::Schema s) {
   using sdk::Schema;
   return s
       .field("velocity", Schema::vec3().optional().unit("m/s").doc(
-                             "velocity imposed inside the emitter (left out: not imposed)"))
+                             "velocity held on the faces of the emitter's cells in every "
+                             "pressure solve; with an open domain side the emitter adds "
+                             "that volume (fed from outside), in a closed box it draws it "
+                             "from around itself (left out: no velocity)"))
       .field("density", Schema::number(1.0).min(0.0).unit("1").doc("smoke density set inside"))
       .field("temperature", Schema::number().optional().min(0.0).unit("K").doc(
                                 "temperature set inside (any source with one turns the "
@@ -91,9 +94,8 @@ bool SmokeSource::contains(const Eigen::Vector3d& p) const {
   return (p.array() >= m_min.array()).all() && (p.array() <= m_max.array()).all();
 }
 
-std::int64_t SmokeSource::apply(double t, const grid::UniformGrid& grid, NodeFields& fields,
-                                bool temperature) const {
-  if (!active(t)) return 0;
+grid::IndexBox SmokeSource::bounding_samples(const grid::UniformGrid& grid,
+                                             grid::Location loc) const {
   Eigen::Vector3d lo = m_min;
   Eigen::Vector3d hi = m_max;
   if (m_shape == Shape::Sphere) {
@@ -103,7 +105,43 @@ std::int64_t SmokeSource::apply(double t, const grid::UniformGrid& grid, NodeFie
     lo = m_min.cwiseMin(m_max).array() - m_radius;
     hi = m_min.cwiseMax(m_max).array() + m_radius;
   }
-  const grid::IndexBox box = grid.samples_in_box(grid::Location::Node, lo, hi);
+  return grid.samples_in_box(loc, lo, hi);
+}
+
+void SmokeSource::append_faces(double t, const grid::UniformGrid& grid, int axis,
+                               bool closed_intake, std::vector<SourceFace>& out) const {
+  if (!active(t) || !m_velocity) return;
+  const grid::IndexBox cells = bounding_samples(grid, grid::Location::Cell);
+  if (cells.empty()) return;
+  const auto loc = static_cast<grid::Location>(static_cast<int>(grid::Location::FaceX) + axis);
+  const auto inside = [&](Eigen::Vector3i c) {  // an emitter cell: its centre lies inside
+    if ((c.array() < 0).any() || (c.array() >= grid.cells().array()).any()) return false;
+    return contains(grid.position(grid::Location::Cell, c));
+  };
+  const double along = (*m_velocity)[axis];
+  Eigen::Vector3d intake_velocity = *m_velocity;
+  if (closed_intake) intake_velocity[axis] = 0.0;
+  Eigen::Vector3i hi = cells.hi;
+  hi[axis] += 1;  // the faces on both sides of every emitter cell
+  for (int k = cells.lo.z(); k <= hi.z(); ++k)
+    for (int j = cells.lo.y(); j <= hi.y(); ++j)
+      for (int i = cells.lo.x(); i <= hi.x(); ++i) {
+        const Eigen::Vector3i face(i, j, k);  // the cell on its + side has its coordinates
+        Eigen::Vector3i minus = face;
+        minus[axis] -= 1;
+        const bool in_minus = inside(minus);
+        const bool in_plus = inside(face);
+        if (!in_minus && !in_plus) continue;
+        // On the emitter's surface, flow into the emitter is intake.
+        const bool intake = in_minus != in_plus && (in_minus ? along < 0.0 : along > 0.0);
+        out.push_back({grid.index(loc, face), intake ? intake_velocity : *m_velocity});
+      }
+}
+
+std::int64_t SmokeSource::apply(double t, const grid::UniformGrid& grid, NodeFields& fields,
+                                bool temperature) const {
+  if (!active(t)) return 0;
+  const grid::IndexBox box = bounding_samples(grid, grid::Location::Node);
   if (box.empty()) return 0;
   std::int64_t set = 0;
 #pragma omp parallel for collapse(2) reduction(+ : set)
@@ -115,8 +153,6 @@ std::int64_t SmokeSource::apply(double t, const grid::UniformGrid& grid, NodeFie
         const std::int64_t node = grid.index(grid::Location::Node, ijk);
         fields.density()[node] = m_density;
         if (temperature && m_temperature) fields.temperature()[node] = *m_temperature;
-        if (m_velocity)
-          for (int a = 0; a < 3; ++a) fields.velocity(a)[node] = (*m_velocity)[a];
         ++set;
       }
   return set;

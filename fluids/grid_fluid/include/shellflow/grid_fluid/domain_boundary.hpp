@@ -5,11 +5,14 @@
 //   Inflow  Neumann, normal velocity given (the full given vector is imposed on the face's
 //           normal component; tangential components enter through the node fields).
 // Sides are numbered 2 * axis + (0 for the min face, 1 for the max face).
+// Velocity sources add interior faces that behave like inflow faces (PhysBAM's psi_N source
+// faces): the fluid sets them every step, and every pressure solve keeps their velocity.
 
 #include <Eigen/Core>
 #include <array>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "shellflow/grid/uniform_grid.hpp"
 #include "shellflow/sdk/schema.hpp"
@@ -21,6 +24,12 @@ enum class BoundaryType { Wall, Open, Inflow };
 struct FaceCondition {
   BoundaryType type = BoundaryType::Wall;
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< Inflow only [m/s]
+};
+
+/// An interior face whose velocity a source prescribes (flat index in the face layout).
+struct SourceFace {
+  std::int64_t face;
+  Eigen::Vector3d velocity;
 };
 
 class DomainBoundary {
@@ -42,9 +51,20 @@ class DomainBoundary {
   /// enclosed region that needs the §4.3 compatibility correction.
   bool has_open_side() const;
 
+  /// The faces of family `axis` inside the sources that are on now (replaces the last set).
+  void set_source_faces(int axis, std::vector<SourceFace> faces) {
+    m_source_faces[axis] = std::move(faces);
+  }
+  /// Does a source prescribe interior faces? They may cut the domain into regions.
+  bool has_source_faces() const {
+    return !m_source_faces[0].empty() || !m_source_faces[1].empty() ||
+           !m_source_faces[2].empty();
+  }
+
   /// Calls f(face, condition) for every face of family `axis` (flat index in
-  /// grid::UniformGrid's face layout) on a wall or inflow side of `grid`'s box: the
-  /// domain faces that are Neumann in every pressure solve (§4.3, §5.1).
+  /// grid::UniformGrid's face layout) on a wall or inflow side of `grid`'s box, then for
+  /// every source face (as an inflow): the faces that are Neumann in every pressure solve
+  /// (§4.3, §5.1).
   template <class F>
   void for_each_closed_face(const grid::UniformGrid& grid, int axis, F&& f) const {
     const auto loc = static_cast<grid::Location>(static_cast<int>(grid::Location::FaceX) + axis);
@@ -59,10 +79,13 @@ class DomainBoundary {
       for (ijk[c] = 0; ijk[c] < n[c]; ++ijk[c])
         for (ijk[b] = 0; ijk[b] < n[b]; ++ijk[b]) f(grid.index(loc, ijk), condition);
     }
+    for (const SourceFace& s : m_source_faces[axis])
+      f(s.face, FaceCondition{BoundaryType::Inflow, s.velocity});
   }
 
  private:
   std::array<FaceCondition, 6> m_sides;
+  std::array<std::vector<SourceFace>, 3> m_source_faces;
 };
 
 }  // namespace shellflow::grid_fluid

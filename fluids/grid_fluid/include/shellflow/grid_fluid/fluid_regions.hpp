@@ -19,6 +19,10 @@ namespace shellflow::grid_fluid {
 struct FluidRegions {
   std::vector<int> region;             ///< region id of each cell
   std::vector<std::uint8_t> enclosed;  ///< per region: 1 when it has no open domain face
+  /// Per region: 1 for a single cell with every face closed (inside a source): it has no
+  /// pressure unknown, its face velocities are all prescribed, its divergence is the
+  /// source's to set (an emitter adds volume) and no solve can or should correct it.
+  std::vector<std::uint8_t> sealed;
   std::vector<std::int64_t> start;     ///< CSR over the regions: cells of r are
   std::vector<std::int64_t> cells;     ///< cells[start[r] .. start[r+1]), in cell order
 
