@@ -21,15 +21,45 @@ constexpr int kTaskTriangles = 512;
 // Below this many triangles the per-step loops run serially.
 constexpr int kParallelThreshold = 2048;
 
-int find_root(std::vector<int>& parent, int k) {
-  while (parent[k] != k) {
-    parent[k] = parent[parent[k]];
-    k = parent[k];
-  }
-  return k;
-}
-
 }  // namespace
+
+struct SelfCollisionHierarchy::Adjacency {
+  Adjacency(const std::vector<std::array<int, 3>>& triangles, int node_count) {
+    const int n = static_cast<int>(triangles.size());
+    std::vector<std::array<int, 4>> ends;  // (low node, high node, triangle, corner)
+    for (int t = 0; t < n; ++t)
+      for (int k = 0; k < 3; ++k) {
+        const int p = triangles[t][k], q = triangles[t][(k + 1) % 3];
+        ends.push_back({std::min(p, q), std::max(p, q), t, k});
+      }
+    std::sort(ends.begin(), ends.end());
+    triangle_edges.resize(n);
+    edge_start.push_back(0);
+    for (size_t e = 0; e < ends.size(); ++e) {
+      if (e > 0 && (ends[e][0] != ends[e - 1][0] || ends[e][1] != ends[e - 1][1])) {
+        edges.push_back({ends[e - 1][0], ends[e - 1][1]});
+        edge_start.push_back(static_cast<int>(edge_triangles.size()));
+      }
+      triangle_edges[ends[e][2]][ends[e][3]] = static_cast<int>(edges.size());
+      edge_triangles.push_back(ends[e][2]);
+    }
+    if (!ends.empty()) {
+      edges.push_back({ends.back()[0], ends.back()[1]});
+      edge_start.push_back(static_cast<int>(edge_triangles.size()));
+    }
+    triangle_stamp.assign(n, -1);
+    visited_stamp.assign(n, -1);
+    edge_stamp.assign(edges.size(), -1);
+    vertex_stamp.assign(node_count, -1);
+    vertex_boundary.assign(node_count, 0);
+  }
+  std::vector<std::array<int, 2>> edges;
+  std::vector<std::array<int, 3>> triangle_edges;
+  std::vector<int> edge_start, edge_triangles;
+  // Stamped with the node under test, so nothing is cleared between nodes.
+  std::vector<int> triangle_stamp, visited_stamp, edge_stamp, vertex_stamp;
+  std::vector<int> vertex_boundary;  ///< boundary edges at a node, valid where stamped
+};
 
 void SelfCollisionHierarchy::build(const std::vector<std::array<int, 3>>& triangles,
                                    const Vectors& positions) {
@@ -47,8 +77,9 @@ void SelfCollisionHierarchy::build(const std::vector<std::array<int, 3>>& triang
         3.0;
   m_nodes.reserve(2 * static_cast<size_t>(n));
   build_recursive(m_order, centres, 0, n);
-  for (auto& node : m_nodes)
-    if (node.count > 1) find_disc_boundary(node);
+  Adjacency adjacency(triangles, static_cast<int>(positions.size()));
+  for (int i = 0; i < static_cast<int>(m_nodes.size()); ++i)
+    if (m_nodes[i].count > 1) find_disc_boundary(i, adjacency);
 }
 
 int SelfCollisionHierarchy::build_recursive(std::vector<int>& order,
@@ -78,48 +109,56 @@ int SelfCollisionHierarchy::build_recursive(std::vector<int>& order,
   return index;
 }
 
-void SelfCollisionHierarchy::find_disc_boundary(Node& node) {
-  // Edges of the node's triangles: (low node, high node, local triangle).
-  std::vector<std::array<int, 3>> edges;
-  std::vector<int> vertices;
-  for (int i = 0; i < node.count; ++i) {
-    const auto& tri = m_triangles[m_order[node.first + i]];
+void SelfCollisionHierarchy::find_disc_boundary(int index, Adjacency& adj) {
+  Node& node = m_nodes[index];
+  for (int i = node.first; i < node.first + node.count; ++i) adj.triangle_stamp[m_order[i]] = index;
+  // Disc: every edge in one or two of the node's triangles, every mesh node on the
+  // boundary in exactly two boundary edges (no pinched nodes), edge-connected, and
+  // Euler characteristic V - E + F = 1.
+  long vertex_count = 0, edge_count = 0;
+  std::vector<std::array<int, 2>> boundary;
+  for (int i = node.first; i < node.first + node.count; ++i) {
+    const int t = m_order[i];
     for (int k = 0; k < 3; ++k) {
-      const int p = tri[k], q = tri[(k + 1) % 3];
-      edges.push_back({std::min(p, q), std::max(p, q), i});
-      vertices.push_back(p);
+      const int v = m_triangles[t][k];
+      if (adj.vertex_stamp[v] != index) {
+        adj.vertex_stamp[v] = index;
+        adj.vertex_boundary[v] = 0;
+        ++vertex_count;
+      }
+      const int e = adj.triangle_edges[t][k];
+      if (adj.edge_stamp[e] == index) continue;
+      adj.edge_stamp[e] = index;
+      ++edge_count;
+      int inside = 0;
+      for (int p = adj.edge_start[e]; p < adj.edge_start[e + 1]; ++p)
+        inside += adj.triangle_stamp[adj.edge_triangles[p]] == index;
+      if (inside > 2) return;
+      if (inside == 1) boundary.push_back(adj.edges[e]);
     }
   }
-  std::sort(edges.begin(), edges.end());
-  std::sort(vertices.begin(), vertices.end());
-  const long vertex_count = std::unique(vertices.begin(), vertices.end()) - vertices.begin();
-  // Disc: edge-connected, every edge in one or two triangles, every node on the boundary
-  // in exactly two boundary edges (no pinched nodes), Euler characteristic V - E + F = 1.
-  std::vector<int> parent(node.count);
-  std::iota(parent.begin(), parent.end(), 0);
-  std::vector<std::array<int, 2>> boundary;
-  long edge_count = 0;
-  for (size_t e = 0; e < edges.size();) {
-    size_t end = e + 1;
-    while (end < edges.size() && edges[end][0] == edges[e][0] && edges[end][1] == edges[e][1])
-      ++end;
-    if (end - e > 2) return;
-    if (end - e == 1)
-      boundary.push_back({edges[e][0], edges[e][1]});
-    else
-      parent[find_root(parent, edges[e][2])] = find_root(parent, edges[e + 1][2]);
-    ++edge_count;
-    e = end;
-  }
   if (vertex_count - edge_count + node.count != 1) return;
-  const int root = find_root(parent, 0);
-  for (int i = 1; i < node.count; ++i)
-    if (find_root(parent, i) != root) return;
-  std::vector<int> ends;
-  for (const auto& e : boundary) ends.push_back(e[0]), ends.push_back(e[1]);
-  std::sort(ends.begin(), ends.end());
-  for (size_t i = 0; i < ends.size(); i += 2)
-    if (ends[i + 1] != ends[i] || (i + 2 < ends.size() && ends[i + 2] == ends[i])) return;
+  for (const auto& [p, q] : boundary) ++adj.vertex_boundary[p], ++adj.vertex_boundary[q];
+  for (const auto& [p, q] : boundary)
+    if (adj.vertex_boundary[p] != 2 || adj.vertex_boundary[q] != 2) return;
+  // Edge-connected: a search over shared edges reaches every triangle.
+  std::vector<int> stack{m_order[node.first]};
+  adj.visited_stamp[stack.back()] = index;
+  int reached = 0;
+  while (!stack.empty()) {
+    const int t = stack.back();
+    stack.pop_back();
+    ++reached;
+    for (int e : adj.triangle_edges[t])
+      for (int p = adj.edge_start[e]; p < adj.edge_start[e + 1]; ++p) {
+        const int u = adj.edge_triangles[p];
+        if (adj.triangle_stamp[u] == index && adj.visited_stamp[u] != index) {
+          adj.visited_stamp[u] = index;
+          stack.push_back(u);
+        }
+      }
+  }
+  if (reached != node.count) return;
   node.boundary_first = static_cast<int>(m_boundary.size());
   m_boundary.insert(m_boundary.end(), boundary.begin(), boundary.end());
   node.boundary_end = static_cast<int>(m_boundary.size());

@@ -85,7 +85,10 @@ class SelfCollisionHierarchy {
 
   int build_recursive(std::vector<int>& order, const std::vector<Eigen::Vector3d>& centres,
                       int first, int count);
-  void find_disc_boundary(Node& node);
+  /// Mesh adjacency for find_disc_boundary(): edges, the triangles at each edge (CSR)
+  /// and per-node stamps, so each node's test is linear in its triangles.
+  struct Adjacency;
+  void find_disc_boundary(int index, Adjacency& adjacency);
   /// Can no two features of this node that share no mesh node collide during the
   /// motion a -> b?
   bool self_collision_free(const Node& node, const Vectors& a, const Vectors& b) const;
