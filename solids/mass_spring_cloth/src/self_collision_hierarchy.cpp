@@ -9,10 +9,14 @@ namespace shellflow::cloth {
 
 namespace {
 
-// A patch passes the cone test when every normal is more than this cosine from the
-// plane normal to its axis (within about 88.9 degrees of the axis): a margin over the
-// round-off of normals and projections, so a patch on the edge of the test is refused.
-constexpr double kMinCosine = 0.02;
+// A patch passes the cone test when every normal is within 60 degrees of its axis. The
+// no-crossing argument needs only 90 (less round-off), but proximity is a distance test:
+// in a crease turning towards 90 degrees, features two rings apart can come within the
+// thickness without crossing, and their repulsion (Bridson 2002 §7.2) should still act.
+// Measured: with 60 degrees the folded-sheet benchmark finds exactly the contacts of an
+// unculled broad phase (with 89 degrees, 15% fewer at dt = 1/24 s), and the hanging
+// 30K-triangle curtain is still one culled patch.
+constexpr double kMinCosine = 0.5;
 // Boundary boxes in the projection are padded by this fraction of the coordinates'
 // magnitude, so round-off cannot separate boundary edges that touch.
 constexpr double kRelativePad = 1e-9;
@@ -206,7 +210,7 @@ bool SelfCollisionHierarchy::self_collision_free(const Node& node, const Vectors
   const double axis_norm = node.normal_sum.norm();
   if (!(axis_norm > 0.0)) return false;
   const Eigen::Vector3d axis = node.normal_sum / axis_norm;
-  // Cone: every normal generator of every triangle within 90 degrees (less the margin).
+  // Cone: every normal generator of every triangle within 60 degrees of the axis.
   for (int i = node.first; i < node.first + node.count; ++i) {
     const int t = m_order[i];
     if (m_degenerate[t]) return false;

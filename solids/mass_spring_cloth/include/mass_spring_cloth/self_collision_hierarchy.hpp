@@ -12,10 +12,12 @@
 // it, at most once), so no two of its features that do not share a node can touch. If
 // that holds at every instant of the step, none of its own pairs can collide and the
 // whole patch skips self-collision: a flat or gently curved sheet has no candidates
-// beyond its pairs along folds. The instants are covered conservatively: each
-// triangle's normal over a step with linear motion is a quadratic whose Bernstein
-// coefficients (start, mid, end) bound it in their cone, and each boundary edge's
-// projection over the step lies in the box of its four projected end points.
+// beyond its pairs along folds. (The test asks for normals within 60 degrees rather
+// than 90, so that proximity repulsion still acts across tight creases; see the .cpp.)
+// The instants are covered conservatively: each triangle's normal over a step with
+// linear motion is a quadratic whose Bernstein coefficients (start, mid, end) bound it
+// in their cone, and each boundary edge's projection over the step lies in the box of
+// its four projected end points.
 //
 // The hierarchy is a binary tree over the triangles, one triangle per leaf, built once
 // by median splits of the triangle centres at the first positions it is given and refit
