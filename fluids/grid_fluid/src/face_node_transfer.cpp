@@ -1,6 +1,7 @@
 #include "shellflow/grid_fluid/face_node_transfer.hpp"
 
 #include <algorithm>
+#include <limits>
 
 namespace shellflow::grid_fluid {
 
@@ -119,12 +120,47 @@ void FaceNodeTransfer::faces_to_nodes_with_rays(const MacGrid& mac, NodeFields& 
   }
 }
 
+void FaceNodeTransfer::mark_held_nodes(const DomainBoundary& boundary, int axis) {
+  HeldNodes& held = m_held[axis];
+  for (const std::int64_t v : held.flagged) held.flag[v] = 0;
+  held.flagged.clear();
+  held.faces = grid::IndexBox{Eigen::Vector3i::Zero(), -Eigen::Vector3i::Ones()};
+  const auto& faces = boundary.source_faces(axis);
+  if (faces.empty()) return;
+  held.flag.resize(m_grid.size(Location::Node), 0);
+  const Location loc = face_location(axis);
+  const int b = (axis + 1) % 3;
+  const int c = (axis + 2) % 3;
+  Eigen::Vector3i lo = Eigen::Vector3i::Constant(std::numeric_limits<int>::max());
+  Eigen::Vector3i hi = Eigen::Vector3i::Constant(std::numeric_limits<int>::min());
+  for (const SourceFace& sf : faces) {
+    const Eigen::Vector3i f = m_grid.coordinates(loc, sf.face);
+    for (int m = 0; m < 4; ++m) {  // its corners: (i_b + {0,1}, i_c + {0,1})
+      Eigen::Vector3i v = f;
+      v[b] += m & 1;
+      v[c] += m >> 1;
+      const std::int64_t node = m_grid.index(Location::Node, v);
+      if (held.flag[node] != 0) continue;
+      held.flag[node] = 1;
+      held.flagged.push_back(node);
+      lo = lo.cwiseMin(v);
+      hi = hi.cwiseMax(v);
+    }
+  }
+  // A face of family a has corners (i_b + {0,1}, i_c + {0,1}).
+  lo[b] -= 1;
+  lo[c] -= 1;
+  held.faces = grid::IndexBox{lo, hi};
+}
+
 void FaceNodeTransfer::increments_to_faces(
     MacGrid& mac, const NodeFields& u_star, const std::array<std::vector<double>, 3>& u_n,
     std::span<const std::uint8_t> node_valid_before,
     const std::array<std::vector<std::uint8_t>, 3>& face_swept, const ShellGeometry& shells,
-    const geometry::ShellBand* band, const DomainBoundary& boundary) const {
+    const geometry::ShellBand* band, const DomainBoundary& boundary) {
   for (int a = 0; a < 3; ++a) {
+    mark_held_nodes(boundary, a);
+    const HeldNodes& held = m_held[a];
     const Location loc = face_location(a);
     const int b = (a + 1) % 3;
     const int c = (a + 2) % 3;
@@ -152,11 +188,26 @@ void FaceNodeTransfer::increments_to_faces(
           std::int64_t corner[4];
           for (int m = 0; m < 4; ++m) corner[m] = first + corner_offset[m];
           const bool rays = !in_band.empty() && in_band[face] != 0;
-          if (!rays) {
+          const bool near_source = held.faces.contains(ijk);
+          if (!rays && !near_source) {
             // Fast path away from shells: the plain average of the four increments.
             double du = 0.0;
             for (const std::int64_t v : corner) du += us[v] - un[v];
             u[face] += 0.25 * du;
+            continue;
+          }
+          const auto held_node = [&](std::int64_t v) {
+            return near_source && held.flag[v] != 0;
+          };
+          if (!rays) {
+            double du = 0.0;
+            int terms = 0;
+            for (const std::int64_t v : corner)
+              if (!held_node(v)) {
+                du += us[v] - un[v];
+                ++terms;
+              }
+            if (terms > 0) u[face] += du / terms;
             continue;
           }
           const Eigen::Vector3d y = m_grid.position(loc, ijk);
@@ -176,7 +227,7 @@ void FaceNodeTransfer::increments_to_faces(
             }
             full += us[v];
             ++full_terms;
-            if (node_valid_before.empty() || node_valid_before[v] != 0) {
+            if ((node_valid_before.empty() || node_valid_before[v] != 0) && !held_node(v)) {
               du += us[v] - un[v];
               ++du_terms;
             }

@@ -30,6 +30,9 @@ struct IndexBox {
   Eigen::Vector3i lo;
   Eigen::Vector3i hi;
   bool empty() const { return (hi.array() < lo.array()).any(); }
+  bool contains(const Eigen::Vector3i& ijk) const {
+    return (ijk.array() >= lo.array()).all() && (ijk.array() <= hi.array()).all();
+  }
 };
 
 class UniformGrid {

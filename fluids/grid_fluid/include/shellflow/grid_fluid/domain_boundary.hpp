@@ -55,6 +55,7 @@ class DomainBoundary {
   void set_source_faces(int axis, std::vector<SourceFace> faces) {
     m_source_faces[axis] = std::move(faces);
   }
+  const std::vector<SourceFace>& source_faces(int axis) const { return m_source_faces[axis]; }
   /// Does a source prescribe interior faces? They may cut the domain into regions.
   bool has_source_faces() const {
     return !m_source_faces[0].empty() || !m_source_faces[1].empty() ||

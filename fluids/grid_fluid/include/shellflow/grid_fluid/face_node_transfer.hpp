@@ -8,6 +8,10 @@
 //    velocity; with no visible node the face takes the object velocity instead.
 // Faces swept by a moving shell (§3) carry values from the other side: they take the
 // average of the visible nodes' u* (refilled, already valid) instead of an increment.
+// A node that touches a source's held face carries the source's velocity, not the
+// fluid's: its increment would leak the jet into the free faces about the emitter's rim
+// every step (a nozzle's back rim spun up past 1.2x the jet in 0.2 s), so free faces take
+// the increments of their other nodes only.
 // Ray casts happen only for samples in the shell band; elsewhere the plain averages run.
 
 #include <array>
@@ -34,20 +38,31 @@ class FaceNodeTransfer {
   /// Adds the averaged increments u* − u^n to the faces (§4.2). `node_valid_before[i]` is
   /// 0 for nodes that were swept this step (their increment is meaningless and is not
   /// used); `face_swept[a]` flags faces of family a swept by the shells (may be empty).
-  /// Faces fixed by a wall or inflow condition are left alone.
+  /// Faces fixed by a wall or inflow condition are left alone; source faces are the
+  /// caller's to set (apply_boundary_velocities).
   void increments_to_faces(MacGrid& mac, const NodeFields& u_star,
                            const std::array<std::vector<double>, 3>& u_n,
                            std::span<const std::uint8_t> node_valid_before,
                            const std::array<std::vector<std::uint8_t>, 3>& face_swept,
                            const ShellGeometry& shells, const geometry::ShellBand* band,
-                           const DomainBoundary& boundary) const;
+                           const DomainBoundary& boundary);
 
  private:
+  /// The nodes touching a held source face of one family, flagged, and the box of the
+  /// faces of that family that have such a node as a corner (empty: none).
+  struct HeldNodes {
+    std::vector<std::uint8_t> flag;     ///< per node; allocated with the first source
+    std::vector<std::int64_t> flagged;  ///< to clear them cheaply next step
+    grid::IndexBox faces{Eigen::Vector3i::Zero(), -Eigen::Vector3i::Ones()};
+  };
+  void mark_held_nodes(const DomainBoundary& boundary, int axis);
+
   /// faces_to_nodes for one node in the shell band: rays decide which faces it sees.
   void faces_to_nodes_with_rays(const MacGrid& mac, NodeFields& nodes, const ShellGeometry& shells,
                                 std::int64_t node) const;
 
   grid::UniformGrid m_grid;
+  std::array<HeldNodes, 3> m_held;
 };
 
 /// Sets the wall (0) and inflow (given) normal velocities on the domain faces.
