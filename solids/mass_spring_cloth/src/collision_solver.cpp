@@ -23,7 +23,9 @@ constexpr double kCcdDistanceFraction = 1e-2;
 constexpr double kRepulsionFraction = 0.1;
 constexpr int kMaxImpactZoneIterations = 100;
 // Candidates are found for the motion padded by this many thicknesses, and reused while
-// no node's end position has moved farther than that (per coordinate).
+// no node's end position has moved farther than that (Euclidean: the self-collision
+// culling proves distances, not per-coordinate gaps, so a pair it culls at thickness +
+// 2 margins stays beyond the thickness).
 constexpr double kCandidateMarginThicknesses = 0.25;
 // Below this many pairs a loop runs serially: a parallel region costs more than it saves.
 constexpr long kParallelThreshold = 4096;
@@ -82,7 +84,7 @@ void CollisionSolver::update_candidates(const Vectors& x0, const Vectors& v, dou
     double stray = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : stray) if (n > kParallelThreshold)
     for (int k = 0; k < n; ++k)
-      stray = std::max(stray, (h * v[k] - m_candidate_motion[k]).cwiseAbs().maxCoeff());
+      stray = std::max(stray, (h * v[k] - m_candidate_motion[k]).norm());
     if (stray <= margin) return;
   }
   m_candidate_motion.resize(n);

@@ -109,7 +109,7 @@ void ContactBroadPhase::find(const Vectors& a, const Vectors& b, double distance
   m_hierarchy.update(m_cloth_boxes, a, b);
   m_culled_patches = 0;
   m_triangle_pairs.clear();
-  if (m_self) m_culled_patches = m_hierarchy.self_pairs(a, b, m_triangle_pairs);
+  if (m_self) m_culled_patches = m_hierarchy.self_pairs(a, b, distance, m_triangle_pairs);
   for (auto& pair : m_triangle_pairs)
     pair = {m_cloth_triangles[pair[0]], m_cloth_triangles[pair[1]]};
   for (int t = 0; t < triangle_count; ++t)

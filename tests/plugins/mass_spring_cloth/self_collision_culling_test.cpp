@@ -2,7 +2,9 @@
 // yield no pairs, and every pair that can collide is still found: two parallel sheets
 // (same normals, not connected), a ribbon curled flat onto itself (same normals,
 // connected, but its boundary overlaps in projection) and a sheet folding over during
-// the step (its normals turn over).
+// the step (its normals turn over). Culling must also keep every pair of features
+// within the contact distance: a crease whose sides come within it, and a ribbon curled
+// almost closed with a gap below it.
 
 #include <gtest/gtest.h>
 
@@ -10,7 +12,9 @@
 #include <cmath>
 #include <set>
 
+#include "mass_spring_cloth/contact_broad_phase.hpp"
 #include "mass_spring_cloth/self_collision_hierarchy.hpp"
+#include "shellflow/geometry/triangle_distance.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
 
 namespace shellflow::cloth {
@@ -67,7 +71,7 @@ Found find_pairs(const Mesh& m, const Vectors& a, const Vectors& b, double pad) 
   hierarchy.build(m.triangles, a);
   hierarchy.update(boxes, a, b);
   std::vector<std::array<int, 2>> out;
-  hierarchy.self_pairs(a, b, out);
+  hierarchy.self_pairs(a, b, 2.0 * pad, out);
   Found f;
   f.reported = out.size();
   for (const auto& [s, t] : out) f.pairs.insert({std::min(s, t), std::max(s, t)});
@@ -162,6 +166,78 @@ TEST(ClothSelfCollisionCulling, SheetFoldingOverDuringTheStepIsNotCulled) {
       ++between;
     }
   EXPECT_GT(between, 1000);
+}
+
+// Every point-triangle and edge-edge pair of non-adjacent features closer than
+// `distance` at the positions x (brute force over all pairs) must be among the broad
+// phase's candidates; returns how many such pairs there are.
+int expect_all_close_pairs_found(const Mesh& m, double distance) {
+  ContactBroadPhase broad_phase;
+  const int n = static_cast<int>(m.x.size());
+  broad_phase.set_topology(m.triangles, n, true);
+  ContactCandidates candidates;
+  broad_phase.find(m.x, m.x, distance, candidates);
+  const std::set<std::array<int, 2>> pt(candidates.point_triangle.begin(),
+                                        candidates.point_triangle.end());
+  const std::set<std::array<int, 2>> ee(candidates.edge_edge.begin(), candidates.edge_edge.end());
+  int close = 0;
+  for (int k = 0; k < n; ++k)
+    for (int t = 0; t < static_cast<int>(m.triangles.size()); ++t) {
+      const auto& tri = m.triangles[t];
+      if (tri[0] == k || tri[1] == k || tri[2] == k) continue;
+      const geometry::TriangleCorners c{m.x[tri[0]], m.x[tri[1]], m.x[tri[2]]};
+      if ((m.x[k] - geometry::closest_point_on_triangle(m.x[k], c).point).norm() >= distance)
+        continue;
+      ++close;
+      EXPECT_TRUE(pt.count({k, t})) << "node " << k << ", triangle " << t;
+    }
+  const auto& edges = broad_phase.edges();
+  for (int e = 0; e < static_cast<int>(edges.size()); ++e)
+    for (int f = e + 1; f < static_cast<int>(edges.size()); ++f) {
+      const auto &p = edges[e], &q = edges[f];
+      if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1]) continue;
+      const auto closest = geometry::closest_segment_segment(m.x[p[0]], m.x[p[1]], m.x[q[0]],
+                                                             m.x[q[1]]);
+      if (closest.distance2 >= distance * distance) continue;
+      ++close;
+      EXPECT_TRUE(ee.count({e, f})) << "edges " << e << ", " << f;
+    }
+  return close;
+}
+
+TEST(ClothSelfCollisionCulling, CreaseWithinTheThicknessKeepsItsClosePairs) {
+  // A 21 x 11 sheet folded along x = 10 cm into a V with 80 degrees between its sides
+  // (normals 50 degrees either side of the axis, inside the 60-degree cone), with the
+  // thickness equal to the 1 cm spacing: features two rings apart across the crease,
+  // and one ring apart along the flat sides, are within the solver's contact distance
+  // (thickness + 2 margins of thickness / 4, collision_solver.cpp).
+  auto m = grid(21, 11);
+  const double side = 50.0 * M_PI / 180.0;
+  for (auto& p : m.x) {
+    const double r = std::abs(p.x() - 0.1);
+    p = Eigen::Vector3d(0.1 + std::copysign(r * std::sin(side), p.x() - 0.1), p.y(),
+                        r * std::cos(side));
+  }
+  const double thickness = 0.01;
+  EXPECT_GT(expect_all_close_pairs_found(m, 1.5 * thickness), 1000);
+}
+
+TEST(ClothSelfCollisionCulling, RibbonCurledAlmostClosedKeepsItsGap) {
+  // A flat ribbon bent in its plane into an annulus whose two ends are 2 mm apart, with
+  // the default thickness of a quarter of the 1 cm spacing: every normal is +z, every
+  // triangle is well shaped, and the boundary crosses nowhere, but the ends are within
+  // the contact distance 1.5 x 2.5 mm.
+  const int nu = 64, nv = 3;
+  auto m = grid(nu, nv);
+  const double radius = 0.1, gap = 0.002;
+  const double turn = 2.0 * M_PI - gap / radius;  // the ends' angle apart
+  for (int j = 0; j < nv; ++j)
+    for (int i = 0; i < nu; ++i) {
+      const double angle = turn * i / (nu - 1), r = radius + 0.01 * j;
+      m.x[i + nu * j] = Eigen::Vector3d(r * std::cos(angle), r * std::sin(angle), 0.0);
+    }
+  const double thickness = 0.0025;
+  EXPECT_GT(expect_all_close_pairs_found(m, 1.5 * thickness), 0);
 }
 
 }  // namespace

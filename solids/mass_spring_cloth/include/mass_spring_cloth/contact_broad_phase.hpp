@@ -3,9 +3,10 @@
 // a distance during a step. Each triangle gets the box of its corners' motion (start to
 // end), inflated. The cloth's triangles sit in a fixed patch hierarchy
 // (self_collision_hierarchy.hpp), refit every step, whose descent yields the cloth's own
-// overlapping triangle pairs minus those inside patches that cannot collide with
-// themselves (normal cones; a flat sheet yields none); other solids' triangles are
-// queried against the same hierarchy. Each overlapping pair (t1, t2) yields the pairs of
+// overlapping triangle pairs minus those inside patches whose features cannot come
+// within the distance of each other (normal cones, projected heights and boundaries; a
+// flat sheet yields none); other solids' triangles are queried against the same
+// hierarchy. Each overlapping pair (t1, t2) yields the pairs of
 // the vertices and edges the two triangles *own*: every vertex and edge is owned by
 // exactly one of its triangles (the first), so each feature pair is produced once,
 // without a global sort or hash (the feature assignment of Curtis, Tamstorf, Manocha
@@ -40,7 +41,8 @@ class ContactBroadPhase {
 
   /// Pairs whose features' boxes over the motion a[k] -> b[k] come within `distance`
   /// of each other (each box is inflated by distance / 2), except pairs inside a cloth
-  /// patch that cannot collide with itself. Order is unspecified. The first call after
+  /// patch in which no two features sharing no node come within `distance` at any
+  /// instant of the motion. Order is unspecified. The first call after
   /// set_topology() shapes the hierarchy by the positions `a`.
   void find(const Vectors& a, const Vectors& b, double distance, ContactCandidates& out);
   /// Self-collision-free patches culled by the last find().

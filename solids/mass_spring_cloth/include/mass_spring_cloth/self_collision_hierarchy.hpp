@@ -9,11 +9,19 @@
 // of one axis and whose boundary, projected along that axis, does not cross itself,
 // projects one-to-one onto the plane normal to the axis (a degree argument: every point
 // of the plane off the boundary is covered as many times as the boundary winds around
-// it, at most once), so no two of its features that do not share a node can touch. If
-// that holds at every instant of the step, none of its own pairs can collide and the
-// whole patch skips self-collision: a flat or gently curved sheet has no candidates
-// beyond its pairs along folds. (The test asks for normals within 60 degrees rather
-// than 90, so that proximity repulsion still acts across tight creases; see the .cpp.)
+// it, at most once), so no two of its features that do not share a node can touch.
+// The solver needs more: no such pair within the contact distance d (thickness plus the
+// candidates' reuse margins). A patch is culled when, at every instant of the step,
+//  - every normal is within 60 degrees of the axis (a cheap first rejection; 90 would
+//    do for the proof),
+//  - every triangle's projected heights exceed d (lower bound: axis . N over its
+//    longest edge, N the unnormalised normal), and
+//  - projected boundary edges that share no node are more than d apart.
+// Then two features that share no node are at least d apart in the projection (a
+// straight path between them in the projected patch leaves a triangle through the side
+// opposite a corner, at least a height away, or leaves the patch through the boundary),
+// and 3D distances are at least the projected ones. A flat or gently curved sheet whose
+// triangles are not much thinner than d has no candidates beyond its pairs along folds.
 // The instants are covered conservatively: each triangle's normal over a step with
 // linear motion is a quadratic whose Bernstein coefficients (start, mid, end) bound it
 // in their cone, and each boundary edge's projection over the step lies in the box of
@@ -49,10 +57,11 @@ class SelfCollisionHierarchy {
               const Vectors& b);
 
   /// Pairs (t1, t2), t1 != t2, of triangles whose boxes overlap, except pairs inside a
-  /// patch that cannot collide with itself during the motion a -> b given to update().
-  /// Each unordered pair comes once; order is unspecified. Returns how many patches
-  /// were culled (the largest ones).
-  int self_pairs(const Vectors& a, const Vectors& b, std::vector<std::array<int, 2>>& out) const;
+  /// patch none of whose features that share no node come within `distance` of each
+  /// other during the motion a -> b given to update(). Each unordered pair comes once;
+  /// order is unspecified. Returns how many patches were culled (the largest ones).
+  int self_pairs(const Vectors& a, const Vectors& b, double distance,
+                 std::vector<std::array<int, 2>>& out) const;
 
   /// Triangles whose boxes overlap `box`.
   template <class Visit>
@@ -91,12 +100,13 @@ class SelfCollisionHierarchy {
   /// and per-node stamps, so each node's test is linear in its triangles.
   struct Adjacency;
   void find_disc_boundary(int index, Adjacency& adjacency);
-  /// Can no two features of this node that share no mesh node collide during the
-  /// motion a -> b?
-  bool self_collision_free(const Node& node, const Vectors& a, const Vectors& b) const;
-  void collect_tasks(int x, int y, const Vectors& a, const Vectors& b,
+  /// Do no two features of this node that share no mesh node come within `distance`
+  /// during the motion a -> b?
+  bool self_collision_free(const Node& node, const Vectors& a, const Vectors& b,
+                           double distance) const;
+  void collect_tasks(int x, int y, const Vectors& a, const Vectors& b, double distance,
                      std::vector<std::array<int, 2>>& tasks, int& culled) const;
-  void self_recursive(int x, const Vectors& a, const Vectors& b,
+  void self_recursive(int x, const Vectors& a, const Vectors& b, double distance,
                       std::vector<std::array<int, 2>>& out, int& culled) const;
   void pair_recursive(int a, int b, std::vector<std::array<int, 2>>& out) const;
 
@@ -105,8 +115,11 @@ class SelfCollisionHierarchy {
   std::vector<int> m_order;
   std::vector<std::array<int, 2>> m_boundary;  ///< node pairs of boundary edges
   // Per step: unit normal generators per triangle (start, middle, end; the middle one
-  // may be zero) and whether the triangle degenerates (zero normal at start or end).
+  // may be zero), their lengths over the triangle's longest edge over the step (lower
+  // bounds of its heights, times the cosine to a projection axis) and whether the
+  // triangle degenerates (zero normal at start or end).
   std::vector<std::array<Eigen::Vector3d, 3>> m_generators;
+  std::vector<std::array<double, 3>> m_height_scales;
   std::vector<char> m_degenerate;
 };
 
