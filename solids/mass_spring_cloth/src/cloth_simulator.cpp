@@ -362,7 +362,10 @@ void ClothSimulator::step(double t, double h) {
         triangles.push_back(
             {m_model.triangles(k, 0), m_model.triangles(k, 1), m_model.triangles(k, 2)});
       triangles.insert(triangles.end(), m_obstacle_triangles.begin(), m_obstacle_triangles.end());
-      m_collision_solver.set_topology(triangles, n, m_collision.self_collision);
+      std::vector<Eigen::Vector3d> rest(n);
+      for (int k = 0; k < n; ++k) rest[k] = node(m_model.rest_positions, k);
+      // Shapes the self-collision hierarchy, rebuilt only if the cloth's triangles change.
+      m_collision_solver.set_topology(triangles, n, m_collision.self_collision, rest);
       m_collision_solver.set_parameters(m_collision.thickness, m_collision.friction,
                                         m_collision.ccd_iterations);
       m_collision_topology_dirty = false;

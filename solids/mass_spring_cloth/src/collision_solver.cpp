@@ -64,9 +64,10 @@ geometry::NearRoots coplanarity_times(const std::array<Eigen::Vector3d, 4>& x,
 }  // namespace
 
 void CollisionSolver::set_topology(const std::vector<std::array<int, 3>>& triangles,
-                                   int cloth_nodes, bool self_collision) {
+                                   int cloth_nodes, bool self_collision,
+                                   const Vectors& rest_positions) {
   m_triangles = triangles;
-  m_broad_phase.set_topology(triangles, cloth_nodes, self_collision);
+  m_broad_phase.set_topology(triangles, cloth_nodes, self_collision, rest_positions);
   m_candidates_valid = false;
 }
 

@@ -12,7 +12,8 @@ constexpr int kParallelThreshold = 2048;
 }  // namespace
 
 void ContactBroadPhase::set_topology(const std::vector<std::array<int, 3>>& triangles,
-                                     int cloth_nodes, bool self_collision) {
+                                     int cloth_nodes, bool self_collision,
+                                     const Vectors& rest_positions) {
   m_triangles = triangles;
   m_cloth_nodes = cloth_nodes;
   m_self = self_collision;
@@ -61,7 +62,10 @@ void ContactBroadPhase::set_topology(const std::vector<std::array<int, 3>>& tria
   m_cloth_triangles.clear();
   for (int t = 0; t < triangle_count; ++t)
     if (!m_obstacle_triangle[t]) m_cloth_triangles.push_back(t);
-  m_hierarchy = SelfCollisionHierarchy();
+  std::vector<std::array<int, 3>> cloth;
+  for (int t : m_cloth_triangles) cloth.push_back(triangles[t]);
+  if (m_hierarchy.empty() || cloth != m_hierarchy.triangles())
+    m_hierarchy.build(cloth, rest_positions);
 }
 
 void ContactBroadPhase::find(const Vectors& a, const Vectors& b, double distance,
@@ -101,11 +105,6 @@ void ContactBroadPhase::find(const Vectors& a, const Vectors& b, double distance
   const int cloth_count = static_cast<int>(m_cloth_triangles.size());
   m_cloth_boxes.resize(cloth_count);
   for (int c = 0; c < cloth_count; ++c) m_cloth_boxes[c] = m_triangle_boxes[m_cloth_triangles[c]];
-  if (m_hierarchy.triangle_count() != cloth_count) {
-    std::vector<std::array<int, 3>> cloth;
-    for (int t : m_cloth_triangles) cloth.push_back(m_triangles[t]);
-    m_hierarchy.build(cloth, a);
-  }
   m_hierarchy.update(m_cloth_boxes, a, b);
   m_culled_patches = 0;
   m_triangle_pairs.clear();

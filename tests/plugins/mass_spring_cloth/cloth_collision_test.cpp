@@ -17,13 +17,13 @@ TEST(ClothContact, ContinuousPassStopsAPointCrossingATriangle) {
   // fixed triangle z = 0 (nodes 1, 2, 3): proximity sees nothing at the start, only the
   // continuous pass (the coplanarity cubic crosses zero at t = 1/2) can stop it. After
   // the impulses its nodes end above the fixed triangle, on their starting side.
-  CollisionSolver solver;
-  solver.set_topology({{1, 2, 3}, {0, 4, 5}}, 6, true);
-  solver.set_parameters(0.01, 0.0, 6);
   const std::vector<Eigen::Vector3d> x0{
       Eigen::Vector3d(0.2, 0.2, 1.0), Eigen::Vector3d(0, 0, 0),
       Eigen::Vector3d(1, 0, 0),       Eigen::Vector3d(0, 1, 0),
       Eigen::Vector3d(0.3, 0.2, 1.0), Eigen::Vector3d(0.2, 0.3, 1.0)};
+  CollisionSolver solver;
+  solver.set_topology({{1, 2, 3}, {0, 4, 5}}, 6, true, x0);
+  solver.set_parameters(0.01, 0.0, 6);
   std::vector<Eigen::Vector3d> v(6, Eigen::Vector3d::Zero());
   for (int k : {0, 4, 5}) v[k] = Eigen::Vector3d(0, 0, -2);
   const std::vector<double> inverse_mass{1.0, 0.0, 0.0, 0.0, 1.0, 1.0};

@@ -174,7 +174,7 @@ TEST(ClothSelfCollisionCulling, SheetFoldingOverDuringTheStepIsNotCulled) {
 int expect_all_close_pairs_found(const Mesh& m, double distance) {
   ContactBroadPhase broad_phase;
   const int n = static_cast<int>(m.x.size());
-  broad_phase.set_topology(m.triangles, n, true);
+  broad_phase.set_topology(m.triangles, n, true, m.x);
   ContactCandidates candidates;
   broad_phase.find(m.x, m.x, distance, candidates);
   const std::set<std::array<int, 2>> pt(candidates.point_triangle.begin(),

@@ -43,8 +43,9 @@ class CollisionSolver {
 
   /// Topology: triangles over nodes [0, n); edges are derived from the triangles. Without
   /// self-collision only pairs touching a node >= `cloth_nodes` (an obstacle) count.
+  /// `rest_positions` (the cloth's nodes) shape the self-collision hierarchy.
   void set_topology(const std::vector<std::array<int, 3>>& triangles, int cloth_nodes,
-                    bool self_collision);
+                    bool self_collision, const Vectors& rest_positions);
   void set_parameters(double thickness, double friction, int ccd_passes);
 
   /// Changes `v` so that moving from `x0` by h * v neither leaves pairs closer than the

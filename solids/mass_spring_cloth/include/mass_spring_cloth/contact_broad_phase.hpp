@@ -34,16 +34,18 @@ class ContactBroadPhase {
 
   /// Triangles over nodes [0, n). Nodes >= `cloth_nodes` belong to other solids: pairs
   /// with only such nodes never count, and without `self_collision` a pair counts only
-  /// if it has such a node.
+  /// if it has such a node. The hierarchy over the cloth's triangles is shaped by
+  /// `rest_positions` (covering the cloth triangles' nodes), not by whatever shape the
+  /// cloth has crumpled into, and is rebuilt only when those triangles change (not when
+  /// other solids come or go).
   void set_topology(const std::vector<std::array<int, 3>>& triangles, int cloth_nodes,
-                    bool self_collision);
+                    bool self_collision, const Vectors& rest_positions);
   const std::vector<std::array<int, 2>>& edges() const { return m_edges; }
 
   /// Pairs whose features' boxes over the motion a[k] -> b[k] come within `distance`
   /// of each other (each box is inflated by distance / 2), except pairs inside a cloth
   /// patch in which no two features sharing no node come within `distance` at any
-  /// instant of the motion. Order is unspecified. The first call after
-  /// set_topology() shapes the hierarchy by the positions `a`.
+  /// instant of the motion. Order is unspecified.
   void find(const Vectors& a, const Vectors& b, double distance, ContactCandidates& out);
   /// Self-collision-free patches culled by the last find().
   int culled_patches() const { return m_culled_patches; }

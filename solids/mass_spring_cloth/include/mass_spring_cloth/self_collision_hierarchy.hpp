@@ -28,7 +28,7 @@
 // its four projected end points.
 //
 // The hierarchy is a binary tree over the triangles, one triangle per leaf, built once
-// by median splits of the triangle centres at the first positions it is given and refit
+// by median splits of the triangle centres at the positions it is given and refit
 // (boxes, cones) every step, so its patches keep their topology: whether a node is a
 // disc, and its boundary, are found once. Pairs of triangles come from descending the
 // tree with pairs of nodes whose boxes overlap, skipping the self pairs of patches that
@@ -50,6 +50,7 @@ class SelfCollisionHierarchy {
   void build(const std::vector<std::array<int, 3>>& triangles, const Vectors& positions);
   bool empty() const { return m_nodes.empty(); }
   int triangle_count() const { return static_cast<int>(m_triangles.size()); }
+  const std::vector<std::array<int, 3>>& triangles() const { return m_triangles; }
 
   /// Per step: triangle boxes (indexed like the triangles of build()) and the motion
   /// a[k] -> b[k] of the nodes, for the normal cones and the boundary test.
