@@ -60,8 +60,9 @@ void ContactBroadPhase::set_topology(const std::vector<std::array<int, 3>>& tria
         tri[0] >= cloth_nodes && tri[1] >= cloth_nodes && tri[2] >= cloth_nodes;
   }
   m_cloth_triangles.clear();
+  m_obstacle_triangles.clear();
   for (int t = 0; t < triangle_count; ++t)
-    if (!m_obstacle_triangle[t]) m_cloth_triangles.push_back(t);
+    (m_obstacle_triangle[t] ? m_obstacle_triangles : m_cloth_triangles).push_back(t);
   std::vector<std::array<int, 3>> cloth;
   for (int t : m_cloth_triangles) cloth.push_back(triangles[t]);
   if (m_hierarchy.empty() || cloth != m_hierarchy.triangles())
@@ -105,17 +106,30 @@ void ContactBroadPhase::find(const Vectors& a, const Vectors& b, double distance
   const int cloth_count = static_cast<int>(m_cloth_triangles.size());
   m_cloth_boxes.resize(cloth_count);
   for (int c = 0; c < cloth_count; ++c) m_cloth_boxes[c] = m_triangle_boxes[m_cloth_triangles[c]];
-  m_hierarchy.update(m_cloth_boxes, a, b);
   m_culled_patches = 0;
   m_triangle_pairs.clear();
-  if (m_self) m_culled_patches = m_hierarchy.self_pairs(a, b, distance, m_triangle_pairs);
+  if (m_self) {
+    m_hierarchy.update(m_cloth_boxes, a, b);
+    m_culled_patches = m_hierarchy.self_pairs(a, b, distance, m_triangle_pairs);
+  } else {
+    m_hierarchy.refit(m_cloth_boxes);  // the normal cones serve only self-collision
+  }
   for (auto& pair : m_triangle_pairs)
     pair = {m_cloth_triangles[pair[0]], m_cloth_triangles[pair[1]]};
-  for (int t = 0; t < triangle_count; ++t)
-    if (m_obstacle_triangle[t])
+  const int obstacle_count = static_cast<int>(m_obstacle_triangles.size());
+#pragma omp parallel if (obstacle_count > kParallelThreshold)
+  {
+    std::vector<std::array<int, 2>> local;
+#pragma omp for schedule(dynamic, 256) nowait
+    for (int i = 0; i < obstacle_count; ++i) {
+      const int t = m_obstacle_triangles[i];
       m_hierarchy.for_each_overlap(m_triangle_boxes[t], [&](int c) {
-        m_triangle_pairs.push_back({m_cloth_triangles[c], t});
+        local.push_back({m_cloth_triangles[c], t});
       });
+    }
+#pragma omp critical
+    m_triangle_pairs.insert(m_triangle_pairs.end(), local.begin(), local.end());
+  }
 
   const auto has_node = [](const std::array<int, 3>& tri, int k) {
     return tri[0] == k || tri[1] == k || tri[2] == k;

@@ -210,6 +210,18 @@ void SelfCollisionHierarchy::update(const std::vector<geometry::Aabb>& triangle_
   }
 }
 
+void SelfCollisionHierarchy::refit(const std::vector<geometry::Aabb>& triangle_boxes) {
+  for (int i = static_cast<int>(m_nodes.size()) - 1; i >= 0; --i) {
+    Node& node = m_nodes[i];
+    if (node.left < 0) {
+      node.box = triangle_boxes[m_order[node.first]];
+    } else {
+      node.box = m_nodes[node.left].box;
+      node.box.extend(m_nodes[node.right].box);
+    }
+  }
+}
+
 bool SelfCollisionHierarchy::self_collision_free(const Node& node, const Vectors& a,
                                                  const Vectors& b, double distance) const {
   if (node.count == 1) return true;  // a triangle's features all share its nodes

@@ -170,11 +170,20 @@ TEST(ClothSelfCollisionCulling, SheetFoldingOverDuringTheStepIsNotCulled) {
 
 // Every point-triangle and edge-edge pair of non-adjacent features closer than
 // `distance` at the positions x (brute force over all pairs) must be among the broad
-// phase's candidates; returns how many such pairs there are.
-int expect_all_close_pairs_found(const Mesh& m, double distance) {
+// phase's candidates; returns how many such pairs there are. Nodes from `cloth_nodes`
+// on are an obstacle's (pairs of only those never count; without self-collision a pair
+// counts only with one of them).
+int expect_all_close_pairs_found(const Mesh& m, double distance, int cloth_nodes = -1,
+                                 bool self_collision = true) {
   ContactBroadPhase broad_phase;
   const int n = static_cast<int>(m.x.size());
-  broad_phase.set_topology(m.triangles, n, true, m.x);
+  if (cloth_nodes < 0) cloth_nodes = n;
+  broad_phase.set_topology(m.triangles, cloth_nodes, self_collision, m.x);
+  const auto counts = [&](std::initializer_list<int> nodes) {
+    int obstacle = 0;
+    for (int k : nodes) obstacle += k >= cloth_nodes;
+    return obstacle < static_cast<int>(nodes.size()) && (self_collision || obstacle > 0);
+  };
   ContactCandidates candidates;
   broad_phase.find(m.x, m.x, distance, candidates);
   const std::set<std::array<int, 2>> pt(candidates.point_triangle.begin(),
@@ -184,7 +193,8 @@ int expect_all_close_pairs_found(const Mesh& m, double distance) {
   for (int k = 0; k < n; ++k)
     for (int t = 0; t < static_cast<int>(m.triangles.size()); ++t) {
       const auto& tri = m.triangles[t];
-      if (tri[0] == k || tri[1] == k || tri[2] == k) continue;
+      if (tri[0] == k || tri[1] == k || tri[2] == k || !counts({k, tri[0], tri[1], tri[2]}))
+        continue;
       const geometry::TriangleCorners c{m.x[tri[0]], m.x[tri[1]], m.x[tri[2]]};
       if ((m.x[k] - geometry::closest_point_on_triangle(m.x[k], c).point).norm() >= distance)
         continue;
@@ -195,7 +205,9 @@ int expect_all_close_pairs_found(const Mesh& m, double distance) {
   for (int e = 0; e < static_cast<int>(edges.size()); ++e)
     for (int f = e + 1; f < static_cast<int>(edges.size()); ++f) {
       const auto &p = edges[e], &q = edges[f];
-      if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1]) continue;
+      if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1] ||
+          !counts({p[0], p[1], q[0], q[1]}))
+        continue;
       const auto closest = geometry::closest_segment_segment(m.x[p[0]], m.x[p[1]], m.x[q[0]],
                                                              m.x[q[1]]);
       if (closest.distance2 >= distance * distance) continue;
@@ -238,6 +250,19 @@ TEST(ClothSelfCollisionCulling, RibbonCurledAlmostClosedKeepsItsGap) {
     }
   const double thickness = 0.0025;
   EXPECT_GT(expect_all_close_pairs_found(m, 1.5 * thickness), 0);
+}
+
+TEST(ClothSelfCollisionCulling, ObstacleQueriesFindEveryClosePair) {
+  // A 10 x 10 cm cloth 2 mm above a 33 x 33 cm obstacle sheet of 2178 triangles (enough
+  // for the parallel obstacle queries), default thickness 2.5 mm: with and without
+  // self-collision, every cloth-obstacle pair within 1.5 thicknesses is a candidate.
+  auto m = grid(11, 11, Eigen::Vector3d(0.1, 0.1, 0.0));
+  const int cloth_nodes = static_cast<int>(m.x.size());
+  append(m, grid(34, 34, Eigen::Vector3d(0.0, 0.0, -0.002)));
+  const double distance = 1.5 * 0.0025;
+  const int close = expect_all_close_pairs_found(m, distance, cloth_nodes, false);
+  EXPECT_GT(close, 100);
+  EXPECT_EQ(expect_all_close_pairs_found(m, distance, cloth_nodes, true), close);
 }
 
 }  // namespace

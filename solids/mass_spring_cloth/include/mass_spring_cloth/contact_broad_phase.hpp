@@ -60,6 +60,7 @@ class ContactBroadPhase {
   std::vector<int> m_node_start, m_owned_nodes, m_edge_start, m_owned_edges;
 
   std::vector<int> m_cloth_triangles;  ///< triangles with a cloth node, in hierarchy order
+  std::vector<int> m_obstacle_triangles;  ///< the others
   SelfCollisionHierarchy m_hierarchy;
   int m_culled_patches = 0;
   std::vector<geometry::Aabb> m_node_boxes, m_edge_boxes, m_triangle_boxes, m_cloth_boxes;

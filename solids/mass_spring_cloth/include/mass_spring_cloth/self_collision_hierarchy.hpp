@@ -56,6 +56,8 @@ class SelfCollisionHierarchy {
   /// a[k] -> b[k] of the nodes, for the normal cones and the boundary test.
   void update(const std::vector<geometry::Aabb>& triangle_boxes, const Vectors& a,
               const Vectors& b);
+  /// Per step, when only for_each_overlap() will be asked: the boxes, without cones.
+  void refit(const std::vector<geometry::Aabb>& triangle_boxes);
 
   /// Pairs (t1, t2), t1 != t2, of triangles whose boxes overlap, except pairs inside a
   /// patch none of whose features that share no node come within `distance` of each
