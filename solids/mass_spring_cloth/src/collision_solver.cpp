@@ -84,8 +84,7 @@ void CollisionSolver::update_candidates(const Vectors& x0, const Vectors& v, dou
   if (m_candidates_valid && static_cast<int>(m_candidate_motion.size()) == n) {
     double stray = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : stray) if (n > kParallelThreshold)
-    for (int k = 0; k < n; ++k)
-      stray = std::max(stray, (h * v[k] - m_candidate_motion[k]).norm());
+    for (int k = 0; k < n; ++k) stray = std::max(stray, (h * v[k] - m_candidate_motion[k]).norm());
     if (stray <= margin) return;
   }
   m_candidate_motion.resize(n);

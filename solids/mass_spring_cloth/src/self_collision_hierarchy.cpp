@@ -184,9 +184,9 @@ void SelfCollisionHierarchy::update(const std::vector<geometry::Aabb>& triangle_
     // Edges move linearly, so each one's length over the step is at most the larger of
     // its lengths at the start and the end (convexity of the norm).
     const Eigen::Vector3d e3a = a[tri[2]] - a[tri[1]], e3b = b[tri[2]] - b[tri[1]];
-    const double longest_edge = std::sqrt(std::max(
-        {e1a.squaredNorm(), e2a.squaredNorm(), e3a.squaredNorm(), e1b.squaredNorm(),
-         e2b.squaredNorm(), e3b.squaredNorm()}));
+    const double longest_edge =
+        std::sqrt(std::max({e1a.squaredNorm(), e2a.squaredNorm(), e3a.squaredNorm(),
+                            e1b.squaredNorm(), e2b.squaredNorm(), e3b.squaredNorm()}));
     auto& g = m_generators[t];
     for (int k = 0; k < 3; ++k) {
       const double norm = normals[k].norm();
@@ -276,8 +276,7 @@ bool SelfCollisionHierarchy::self_collision_free(const Node& node, const Vectors
 }
 
 void SelfCollisionHierarchy::collect_tasks(int x, int y, const Vectors& a, const Vectors& b,
-                                           double distance,
-                                           std::vector<std::array<int, 2>>& tasks,
+                                           double distance, std::vector<std::array<int, 2>>& tasks,
                                            int& culled) const {
   const Node &nx = m_nodes[x], &ny = m_nodes[y];
   if (x == y) {
@@ -310,8 +309,7 @@ void SelfCollisionHierarchy::collect_tasks(int x, int y, const Vectors& a, const
 }
 
 void SelfCollisionHierarchy::self_recursive(int x, const Vectors& a, const Vectors& b,
-                                            double distance,
-                                            std::vector<std::array<int, 2>>& out,
+                                            double distance, std::vector<std::array<int, 2>>& out,
                                             int& culled) const {
   const Node& node = m_nodes[x];
   if (node.left < 0) return;

@@ -14,8 +14,8 @@
 
 #include "mass_spring_cloth/contact_broad_phase.hpp"
 #include "mass_spring_cloth/self_collision_hierarchy.hpp"
-#include "shellflow/geometry/triangle_distance.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
+#include "shellflow/geometry/triangle_distance.hpp"
 
 namespace shellflow::cloth {
 namespace {
@@ -218,8 +218,8 @@ int expect_all_close_pairs_found(const Mesh& m, double distance, int cloth_nodes
       if (p[0] == q[0] || p[0] == q[1] || p[1] == q[0] || p[1] == q[1] ||
           !counts({p[0], p[1], q[0], q[1]}))
         continue;
-      const auto closest = geometry::closest_segment_segment(m.x[p[0]], m.x[p[1]], m.x[q[0]],
-                                                             m.x[q[1]]);
+      const auto closest =
+          geometry::closest_segment_segment(m.x[p[0]], m.x[p[1]], m.x[q[0]], m.x[q[1]]);
       if (closest.distance2 >= distance * distance) continue;
       ++close;
       EXPECT_TRUE(ee.count({e, f})) << "edges " << e << ", " << f;

@@ -59,7 +59,7 @@ class ContactBroadPhase {
   // Features owned by each triangle, CSR by triangle.
   std::vector<int> m_node_start, m_owned_nodes, m_edge_start, m_owned_edges;
 
-  std::vector<int> m_cloth_triangles;  ///< triangles with a cloth node, in hierarchy order
+  std::vector<int> m_cloth_triangles;     ///< triangles with a cloth node, in hierarchy order
   std::vector<int> m_obstacle_triangles;  ///< the others
   SelfCollisionHierarchy m_hierarchy;
   int m_culled_patches = 0;

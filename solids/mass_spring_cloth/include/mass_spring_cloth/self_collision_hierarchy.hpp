@@ -16,12 +16,16 @@
 //    do for the proof),
 //  - every triangle's projected heights exceed d (lower bound: axis . N over its
 //    longest edge, N the unnormalised normal), and
-//  - projected boundary edges that share no node are more than d apart.
-// Then two features that share no node are at least d apart in the projection (a
-// straight path between them in the projected patch leaves a triangle through the side
-// opposite a corner, at least a height away, or leaves the patch through the boundary),
-// and 3D distances are at least the projected ones. A flat or gently curved sheet whose
-// triangles are not much thinner than d has no candidates beyond its pairs along folds.
+//  - the projected boxes of boundary edges that share no node, each padded by d / 2,
+//    do not overlap.
+// Then two features that share no node are at least d apart in the projection, and 3D
+// distances are at least the projected ones. In the projection (one-to-one) the point-
+// triangle and edge-edge distances are those of a node to an edge without it; a
+// straight path from the node leaves its first triangle through the opposite side, a
+// height away, or leaves the patch at the node and re-enters through a boundary edge
+// sharing no node with one of the node's two boundary edges. A flat or gently curved
+// sheet whose triangles are not much thinner than d has no candidates beyond its pairs
+// along folds.
 // The instants are covered conservatively: each triangle's normal over a step with
 // linear motion is a quadratic whose Bernstein coefficients (start, mid, end) bound it
 // in their cone, and each boundary edge's projection over the step lies in the box of
