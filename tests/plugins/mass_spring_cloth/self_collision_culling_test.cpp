@@ -4,7 +4,8 @@
 // connected, but its boundary overlaps in projection) and a sheet folding over during
 // the step (its normals turn over). Culling must also keep every pair of features
 // within the contact distance: a crease whose sides come within it, and a ribbon curled
-// almost closed with a gap below it.
+// almost closed with a gap below it. The hierarchy keeps the patches of the rest shape
+// when obstacles come and go.
 
 #include <gtest/gtest.h>
 
@@ -276,6 +277,57 @@ TEST(ClothSelfCollisionCulling, ObstacleQueriesFindEveryClosePair) {
   const int close = expect_all_close_pairs_found(m, distance, cloth_nodes, false);
   EXPECT_GE(close, 121);  // each cloth node 2 mm above an obstacle triangle
   EXPECT_EQ(expect_all_close_pairs_found(m, distance, cloth_nodes, true), close);
+}
+
+TEST(ClothSelfCollisionCulling, HierarchyKeepsTheRestShapeWhenObstaclesChange) {
+  // A 40 x 10 cm sheet, flat at rest, is crumpled (folded like an accordion into 5 cm
+  // panels 1 mm apart) when an obstacle triangle appears, then bent into a sharp V
+  // along x = 20 cm (sides 75 degrees either side of +z: the whole sheet fails the cone
+  // test). The rest shape's hierarchy splits the sheet first at x = 20 cm (the median
+  // along its widest extent), so each side of the V is one culled patch and no pair has
+  // both features on one side. A hierarchy shaped by the accordion would split across y
+  // first and leave pairs between patches of the same side.
+  auto m = grid(41, 11);
+  const int cloth_nodes = static_cast<int>(m.x.size());
+  const Vectors rest = m.x;
+  Vectors x = rest;
+  for (auto& p : x) {
+    const int panel = static_cast<int>(p.x() / 0.05 + 1e-9);
+    const double u = p.x() - 0.05 * panel;
+    p = Eigen::Vector3d(panel % 2 == 0 ? u : 0.05 - u, p.y(), 0.001 * panel);
+  }
+  ContactBroadPhase broad_phase;
+  broad_phase.set_topology(m.triangles, cloth_nodes, true, rest);
+  ContactCandidates candidates;
+  broad_phase.find(x, x, 2.0 * kPad, candidates);
+  // An obstacle triangle 1 m away: the set of solids changes while the sheet is folded.
+  auto with_obstacle = m.triangles;
+  with_obstacle.push_back({cloth_nodes, cloth_nodes + 1, cloth_nodes + 2});
+  for (const auto& p :
+       {Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(1.1, 1, 1), Eigen::Vector3d(1, 1.1, 1)})
+    x.push_back(p);
+  broad_phase.set_topology(with_obstacle, cloth_nodes, true, rest);
+  broad_phase.find(x, x, 2.0 * kPad, candidates);
+  const double side_angle = 75.0 * M_PI / 180.0;
+  for (int k = 0; k < cloth_nodes; ++k) {
+    const double r = rest[k].x() - 0.2;
+    x[k] = Eigen::Vector3d(0.2 + r * std::cos(side_angle), rest[k].y(),
+                           std::abs(r) * std::sin(side_angle));
+  }
+  broad_phase.find(x, x, 2.0 * kPad, candidates);
+  EXPECT_EQ(broad_phase.culled_patches(), 2);
+  // Sides by rest x; nodes on the crease (within round-off, 1e-9 m) are on neither.
+  const auto side = [&](int k) {
+    return rest[k].x() < 0.2 - 1e-9 ? -1 : (rest[k].x() > 0.2 + 1e-9 ? 1 : 0);
+  };
+  int across = 0;
+  for (const auto& [k, t] : candidates.point_triangle) {
+    const auto& tri = m.triangles[t];
+    const int s = side(tri[0]) + side(tri[1]) + side(tri[2]);  // nonzero: the side
+    EXPECT_FALSE(side(k) != 0 && s * side(k) > 0) << "node " << k << ", triangle " << t;
+    across += side(k) * s < 0;
+  }
+  EXPECT_GT(across, 0);  // the V's sides meet within the distance along the crease
 }
 
 }  // namespace
