@@ -86,6 +86,47 @@ void compute_inverse_diagonal(Level& level) {
   });
 }
 
+/// The near_only bits of a level that has a coarser one (see Level): along axis d, cell
+/// i's far parent lies on the side of i's odd/even neighbour (i + 1 for odd i, i - 1 for
+/// even), as in parents_of; a closed face (weight 0) between them drops that parent.
+void compute_near_only(Level& level, const Eigen::Vector3i& coarse_cells) {
+  const Eigen::Vector3i n = level.cells;
+  level.near_only.assign(n.prod(), 0);
+  level.row_near_only.assign(std::int64_t(n.y()) * n.z(), 0);
+  const auto weight = [&](int a, std::int64_t f) {
+    return level.unit_weights ? float(level.open[a][f]) : level.weight[a][f];
+  };
+#pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j) {
+      std::uint8_t any = 0;
+      for (int i = 0; i < n.x(); ++i) {
+        const Eigen::Vector3i c(i, j, k);
+        std::uint8_t bits = 0;
+        for (int a = 0; a < 3; ++a) {
+          const Parents p = parents_of(c[a], coarse_cells[a]);
+          if (p.second_weight == 0.0f) continue;
+          Eigen::Vector3i face = c;  // the face between c and its neighbour towards `second`
+          if (c[a] % 2 == 1) face[a] += 1;
+          Eigen::Vector3i faces = n;
+          faces[a] += 1;
+          const std::int64_t f =
+              face.x() + std::int64_t(faces.x()) * (face.y() + std::int64_t(faces.y()) * face.z());
+          if (weight(a, f) == 0.0f) bits |= std::uint8_t(1 << a);
+        }
+        level.near_only[i + std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k)] = bits;
+        any |= bits;
+      }
+      level.row_near_only[j + std::int64_t(n.y()) * k] = any != 0;
+    }
+}
+
+/// Parents of cell c along axis a, with the far one dropped where near_only says so.
+Parents parents_near_only(const Parents& p, std::uint8_t bits, int a) {
+  if ((bits >> a & 1) == 0) return p;
+  return {p.first, p.first, 1.0f, 0.0f};
+}
+
 /// Coarse face weights: half the sum of the fine face weights each coarse face covers.
 void coarsen_weights(const Level& fine, Level& coarse) {
   for (int a = 0; a < 3; ++a) {
@@ -188,6 +229,36 @@ void level_residual(const Level& level) {
   });
 }
 
+/// Weight of a fine cell towards coarse `parent` along one axis, given its standard weight:
+/// along a near_only axis the near parent takes all of it and the far one none.
+float weight_near_only(float standard, int fine_index, int parent, std::uint8_t bits, int a) {
+  if ((bits >> a & 1) == 0) return standard;
+  return fine_index / 2 == parent ? 1.0f : 0.0f;
+}
+
+/// Restriction's correction for one fine row (child m_z of K, m_y of J) with near_only
+/// cells: each such cell's contribution to coarse row (J, K) moves from the standard
+/// weights (already summed) to its own, so that R stays exactly P^T.
+void correct_near_only(const Level& fine, const Children& cz, int c, int K, const Children& cy,
+                       int bb, int J, int coarse_nx, float* out) {
+  const std::int64_t fnx = fine.cells.x();
+  const std::int64_t row = fnx * (cy.fine[bb] + std::int64_t(fine.cells.y()) * cz.fine[c]);
+  for (int i = 0; i < fnx; ++i) {
+    const std::uint8_t bits = fine.near_only[row + i];
+    if (bits == 0) continue;
+    const float wz = weight_near_only(cz.weight[c], cz.fine[c], K, bits, 2);
+    const float wy = weight_near_only(cy.weight[bb], cy.fine[bb], J, bits, 1);
+    const float standard_zy = cz.weight[c] * cy.weight[bb];
+    const Parents px = parents_of(i, coarse_nx);
+    const float r = fine.r[row + i];
+    for (const auto& [I, w] : {std::pair{px.first, px.first_weight},
+                               std::pair{px.second, px.second_weight}}) {
+      if (w == 0.0f) continue;
+      out[I] += (wz * wy * weight_near_only(w, i, I, bits, 0) - standard_zy * w) * r;
+    }
+  }
+}
+
 /// coarse.b = P^T fine.r, separably: for each coarse row (J, K) the (up to 4 x 4) fine rows
 /// are summed with their y and z weights into one fine-length row, which is then restricted
 /// along x. Same weights as the tensor product, so still exactly P^T.
@@ -220,6 +291,10 @@ void restrict_residual(const Level& fine, const Level& coarse,
           for (int a = 0; a < cx.count; ++a) sum += cx.weight[a] * line[cx.fine[a]];
           out[I] = sum;
         }
+        for (int c = 0; c < cz.count; ++c)
+          for (int bb = 0; bb < cy.count; ++bb)
+            if (fine.row_near_only[cy.fine[bb] + std::int64_t(fine.cells.y()) * cz.fine[c]])
+              correct_near_only(fine, cz, c, K, cy, bb, J, n.x(), out);
       }
   }
 }
@@ -250,10 +325,29 @@ void prolongate_add(const Level& coarse, const Level& fine,
         const float w2 = pz.second_weight * py.first_weight;
         const float w3 = pz.second_weight * py.second_weight;
         for (int I = 0; I < cnx; ++I) line[I] = w0 * r0[I] + w1 * r1[I] + w2 * r2[I] + w3 * r3[I];
-        float* out = x + std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
+        const std::int64_t row = std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
+        float* out = x + row;
+        const bool masked = fine.row_near_only[j + std::int64_t(n.y()) * k] != 0;
         for (int i = 0; i < n.x(); ++i) {
-          const Parents& px = parents[0][i];
-          out[i] += px.first_weight * line[px.first] + px.second_weight * line[px.second];
+          const std::uint8_t bits = masked ? fine.near_only[row + i] : 0;
+          if (bits == 0) {
+            const Parents& px = parents[0][i];
+            out[i] += px.first_weight * line[px.first] + px.second_weight * line[px.second];
+            continue;
+          }
+          // A parent across a closed face is dropped: the tensor product, term by term.
+          const Parents qx = parents_near_only(parents[0][i], bits, 0);
+          const Parents qy = parents_near_only(py, bits, 1);
+          const Parents qz = parents_near_only(pz, bits, 2);
+          float sum = 0.0f;
+          for (const auto& [zc, zw] : {std::pair{qz.first, qz.first_weight},
+                                       std::pair{qz.second, qz.second_weight}})
+            for (const auto& [yc, yw] : {std::pair{qy.first, qy.first_weight},
+                                         std::pair{qy.second, qy.second_weight}}) {
+              const float* r = xc + zc * cplane + std::int64_t(yc) * cnx;
+              sum += zw * yw * (qx.first_weight * r[qx.first] + qx.second_weight * r[qx.second]);
+            }
+          out[i] += sum;
         }
       }
   }
@@ -319,6 +413,7 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
   }
   compute_inverse_diagonal(fine);
   for (size_t l = 1; l < m_levels.size(); ++l) {
+    compute_near_only(m_levels[l - 1], m_levels[l].cells);
     coarsen_weights(m_levels[l - 1], m_levels[l]);
     compute_inverse_diagonal(m_levels[l]);
   }

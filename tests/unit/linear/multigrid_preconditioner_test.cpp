@@ -195,10 +195,9 @@ std::pair<int, int> iterations_of(const GridLaplacian& a, const std::vector<int>
 
 // Multigrid's point: the iteration count barely grows with the grid, where MIC(0)'s grows
 // like n^(1/2) (Bridson 2008, §4.3.2). Smoke box (walls, open top) from 16^3 to 64^3 (64x
-// the unknowns): MG-PCG may take at most 1.5x the iterations. On the shell-cut domain of
-// irregular() the coarse grids do not see the pressure jumps across closed faces (the
-// interpolation crosses them), so the count grows, but still at most 2.5x where MIC(0)'s
-// triples.
+// the unknowns): MG-PCG may take at most 1.5x the iterations. So on the shell-cut domain of
+// irregular(), because the transfers skip a coarse parent across a closed face (measured:
+// 9 / 10 / 11; 16 / 23 / 33 when the interpolation crossed shells), where MIC(0)'s triples.
 TEST(MultigridPreconditioner, IterationsRoughlyIndependentOfGridSize) {
   std::vector<std::pair<int, int>> plain, cut;
   for (const int n : {16, 32, 64}) {
@@ -215,7 +214,7 @@ TEST(MultigridPreconditioner, IterationsRoughlyIndependentOfGridSize) {
         n, levels, plain.back().first, plain.back().second, cut.back().first, cut.back().second);
   }
   EXPECT_LE(plain.back().first, 1.5 * plain.front().first);
-  EXPECT_LE(cut.back().first, 2.5 * cut.front().first);
+  EXPECT_LE(cut.back().first, 1.5 * cut.front().first);
   EXPECT_GE(cut.back().second, 2.5 * cut.front().second);
 }
 
