@@ -236,9 +236,9 @@ float weight_near_only(float standard, int fine_index, int parent, std::uint8_t 
   return fine_index / 2 == parent ? 1.0f : 0.0f;
 }
 
-/// Restriction's correction for one fine row (child m_z of K, m_y of J) with near_only
-/// cells: each such cell's contribution to coarse row (J, K) moves from the standard
-/// weights (already summed) to its own, so that R stays exactly P^T.
+/// Restriction's correction for one fine row (child c of K along z, bb of J along y) with
+/// near_only cells: each such cell's contribution to coarse row (J, K) moves from the
+/// standard weights (already summed) to its own, so that R stays exactly P^T.
 void correct_near_only(const Level& fine, const Children& cz, int c, int K, const Children& cy,
                        int bb, int J, int coarse_nx, float* out) {
   const std::int64_t fnx = fine.cells.x();
