@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "mass_spring_cloth/mesh_edges.hpp"
+
 namespace shellflow::cloth {
 
 namespace {
@@ -21,23 +23,12 @@ void ContactBroadPhase::set_topology(const std::vector<std::array<int, 3>>& tria
   int node_count = 0;
   for (const auto& t : triangles) node_count = std::max({node_count, t[0] + 1, t[1] + 1, t[2] + 1});
 
-  // Edges with the first triangle that has them (their owner).
-  std::vector<std::array<int, 3>> edge_owner;  // (low node, high node, triangle)
-  for (int t = 0; t < triangle_count; ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = triangles[t][k], b = triangles[t][(k + 1) % 3];
-      edge_owner.push_back({std::min(a, b), std::max(a, b), t});
-    }
-  std::sort(edge_owner.begin(), edge_owner.end());
-  m_edges.clear();
+  // Each edge is owned by the first triangle that has it.
+  const MeshEdges mesh(triangles);
+  m_edges = mesh.edges;
   std::vector<std::vector<int>> owned_edges(triangle_count), owned_nodes(triangle_count);
-  for (size_t e = 0; e < edge_owner.size(); ++e) {
-    if (e > 0 && edge_owner[e][0] == edge_owner[e - 1][0] &&
-        edge_owner[e][1] == edge_owner[e - 1][1])
-      continue;
-    owned_edges[edge_owner[e][2]].push_back(static_cast<int>(m_edges.size()));
-    m_edges.push_back({edge_owner[e][0], edge_owner[e][1]});
-  }
+  for (int e = 0; e < static_cast<int>(m_edges.size()); ++e)
+    owned_edges[mesh.edge_triangles[mesh.edge_start[e]]].push_back(e);
   std::vector<int> node_owner(node_count, -1);
   for (int t = 0; t < triangle_count; ++t)
     for (int k : triangles[t])
@@ -49,20 +40,19 @@ void ContactBroadPhase::set_topology(const std::vector<std::array<int, 3>>& tria
   m_edge_start.assign(1, 0);
   m_owned_nodes.clear();
   m_owned_edges.clear();
-  m_obstacle_triangle.assign(triangle_count, 0);
   for (int t = 0; t < triangle_count; ++t) {
     m_owned_nodes.insert(m_owned_nodes.end(), owned_nodes[t].begin(), owned_nodes[t].end());
     m_owned_edges.insert(m_owned_edges.end(), owned_edges[t].begin(), owned_edges[t].end());
     m_node_start.push_back(static_cast<int>(m_owned_nodes.size()));
     m_edge_start.push_back(static_cast<int>(m_owned_edges.size()));
-    const auto& tri = triangles[t];
-    m_obstacle_triangle[t] =
-        tri[0] >= cloth_nodes && tri[1] >= cloth_nodes && tri[2] >= cloth_nodes;
   }
   m_cloth_triangles.clear();
   m_obstacle_triangles.clear();
-  for (int t = 0; t < triangle_count; ++t)
-    (m_obstacle_triangle[t] ? m_obstacle_triangles : m_cloth_triangles).push_back(t);
+  for (int t = 0; t < triangle_count; ++t) {
+    const auto& tri = triangles[t];
+    const bool obstacle = tri[0] >= cloth_nodes && tri[1] >= cloth_nodes && tri[2] >= cloth_nodes;
+    (obstacle ? m_obstacle_triangles : m_cloth_triangles).push_back(t);
+  }
   std::vector<std::array<int, 3>> cloth;
   for (int t : m_cloth_triangles) cloth.push_back(triangles[t]);
   if (m_hierarchy.empty() || cloth != m_hierarchy.triangles())

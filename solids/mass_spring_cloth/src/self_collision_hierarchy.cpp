@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numeric>
 
+#include "mass_spring_cloth/mesh_edges.hpp"
+
 namespace shellflow::cloth {
 
 namespace {
@@ -26,39 +28,16 @@ constexpr int kParallelThreshold = 2048;
 
 }  // namespace
 
-struct SelfCollisionHierarchy::Adjacency {
-  Adjacency(const std::vector<std::array<int, 3>>& triangles, int node_count) {
+struct SelfCollisionHierarchy::Adjacency : MeshEdges {
+  Adjacency(const std::vector<std::array<int, 3>>& triangles, int node_count)
+      : MeshEdges(triangles) {
     const int n = static_cast<int>(triangles.size());
-    std::vector<std::array<int, 4>> ends;  // (low node, high node, triangle, corner)
-    for (int t = 0; t < n; ++t)
-      for (int k = 0; k < 3; ++k) {
-        const int p = triangles[t][k], q = triangles[t][(k + 1) % 3];
-        ends.push_back({std::min(p, q), std::max(p, q), t, k});
-      }
-    std::sort(ends.begin(), ends.end());
-    triangle_edges.resize(n);
-    edge_start.push_back(0);
-    for (size_t e = 0; e < ends.size(); ++e) {
-      if (e > 0 && (ends[e][0] != ends[e - 1][0] || ends[e][1] != ends[e - 1][1])) {
-        edges.push_back({ends[e - 1][0], ends[e - 1][1]});
-        edge_start.push_back(static_cast<int>(edge_triangles.size()));
-      }
-      triangle_edges[ends[e][2]][ends[e][3]] = static_cast<int>(edges.size());
-      edge_triangles.push_back(ends[e][2]);
-    }
-    if (!ends.empty()) {
-      edges.push_back({ends.back()[0], ends.back()[1]});
-      edge_start.push_back(static_cast<int>(edge_triangles.size()));
-    }
     triangle_stamp.assign(n, -1);
     visited_stamp.assign(n, -1);
     edge_stamp.assign(edges.size(), -1);
     vertex_stamp.assign(node_count, -1);
     vertex_boundary.assign(node_count, 0);
   }
-  std::vector<std::array<int, 2>> edges;
-  std::vector<std::array<int, 3>> triangle_edges;
-  std::vector<int> edge_start, edge_triangles;
   // Stamped with the node under test, so nothing is cleared between nodes.
   std::vector<int> triangle_stamp, visited_stamp, edge_stamp, vertex_stamp;
   std::vector<int> vertex_boundary;  ///< boundary edges at a node, valid where stamped
@@ -195,18 +174,14 @@ void SelfCollisionHierarchy::update(const std::vector<geometry::Aabb>& triangle_
     }
     m_degenerate[t] = g[0].isZero(0.0) || g[2].isZero(0.0);
   }
-  // Boxes and cone axes bottom-up: children come after their parent in m_nodes.
+  refit(triangle_boxes);
+  // Cone axes bottom-up: children come after their parent in m_nodes.
   for (int i = static_cast<int>(m_nodes.size()) - 1; i >= 0; --i) {
     Node& node = m_nodes[i];
-    if (node.left < 0) {
-      const int t = m_order[node.first];
-      node.box = triangle_boxes[t];
-      node.normal_sum = m_generators[t][0] + m_generators[t][2];
-    } else {
-      node.box = m_nodes[node.left].box;
-      node.box.extend(m_nodes[node.right].box);
-      node.normal_sum = m_nodes[node.left].normal_sum + m_nodes[node.right].normal_sum;
-    }
+    node.normal_sum = node.left < 0 ? Eigen::Vector3d(m_generators[m_order[node.first]][0] +
+                                                      m_generators[m_order[node.first]][2])
+                                    : Eigen::Vector3d(m_nodes[node.left].normal_sum +
+                                                      m_nodes[node.right].normal_sum);
   }
 }
 
@@ -317,6 +292,13 @@ void SelfCollisionHierarchy::self_recursive(int x, const Vectors& a, const Vecto
     ++culled;
     return;
   }
+  children_pairs(x, a, b, distance, out, culled);
+}
+
+void SelfCollisionHierarchy::children_pairs(int x, const Vectors& a, const Vectors& b,
+                                            double distance, std::vector<std::array<int, 2>>& out,
+                                            int& culled) const {
+  const Node& node = m_nodes[x];
   self_recursive(node.left, a, b, distance, out, culled);
   self_recursive(node.right, a, b, distance, out, culled);
   pair_recursive(node.left, node.right, out);
@@ -350,8 +332,8 @@ int SelfCollisionHierarchy::self_pairs(const Vectors& a, const Vectors& b, doubl
     std::vector<std::array<int, 2>> local;
 #pragma omp for schedule(dynamic, 1) nowait
     for (int i = 0; i < task_count; ++i) {
-      if (tasks[i][0] == tasks[i][1])
-        self_recursive(tasks[i][0], a, b, distance, local, culled);
+      if (tasks[i][0] == tasks[i][1])  // collect_tasks found it not self-collision-free
+        children_pairs(tasks[i][0], a, b, distance, local, culled);
       else
         pair_recursive(tasks[i][0], tasks[i][1], local);
     }

@@ -53,7 +53,6 @@ class ContactBroadPhase {
  private:
   std::vector<std::array<int, 3>> m_triangles;
   std::vector<std::array<int, 2>> m_edges;
-  std::vector<char> m_obstacle_triangle;  ///< all three nodes belong to another solid
   int m_cloth_nodes = 0;
   bool m_self = true;
   // Features owned by each triangle, CSR by triangle.

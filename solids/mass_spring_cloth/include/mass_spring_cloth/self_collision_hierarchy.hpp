@@ -115,6 +115,10 @@ class SelfCollisionHierarchy {
                      std::vector<std::array<int, 2>>& tasks, int& culled) const;
   void self_recursive(int x, const Vectors& a, const Vectors& b, double distance,
                       std::vector<std::array<int, 2>>& out, int& culled) const;
+  /// The pairs inside inner node x that is not self-collision-free: its children's own
+  /// pairs and the pairs between them.
+  void children_pairs(int x, const Vectors& a, const Vectors& b, double distance,
+                      std::vector<std::array<int, 2>>& out, int& culled) const;
   void pair_recursive(int a, int b, std::vector<std::array<int, 2>>& out) const;
 
   std::vector<std::array<int, 3>> m_triangles;

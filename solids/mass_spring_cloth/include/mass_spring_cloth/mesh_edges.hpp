@@ -1,0 +1,20 @@
+#pragma once
+// MeshEdges: the edges of a triangle mesh, each once, sorted by their (low, high) nodes,
+// with the triangles at each edge in increasing order (so the first is the edge's owner
+// in ContactBroadPhase's feature assignment) and the three edges of each triangle. Shared
+// by the contact broad phase and the self-collision hierarchy's disc test.
+
+#include <array>
+#include <vector>
+
+namespace shellflow::cloth {
+
+struct MeshEdges {
+  explicit MeshEdges(const std::vector<std::array<int, 3>>& triangles);
+
+  std::vector<std::array<int, 2>> edges;           ///< (low node, high node)
+  std::vector<std::array<int, 3>> triangle_edges;  ///< edge k of t joins corners k, k + 1
+  std::vector<int> edge_start, edge_triangles;     ///< CSR: triangles at each edge
+};
+
+}  // namespace shellflow::cloth
