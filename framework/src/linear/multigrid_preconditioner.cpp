@@ -229,32 +229,34 @@ void level_residual(const Level& level) {
   });
 }
 
-/// Weight of a fine cell towards coarse `parent` along one axis, given its standard weight:
-/// along a near_only axis the near parent takes all of it and the far one none.
-float weight_near_only(float standard, int fine_index, int parent, std::uint8_t bits, int a) {
-  if ((bits >> a & 1) == 0) return standard;
-  return fine_index / 2 == parent ? 1.0f : 0.0f;
+/// Weight of a fine cell with parents p towards coarse cell `parent` along one axis.
+float weight_towards(const Parents& p, int parent) {
+  return (p.first == parent ? p.first_weight : 0.0f) +
+         (p.second == parent ? p.second_weight : 0.0f);
 }
 
 /// Restriction's correction for one fine row (child c of K along z, bb of J along y) with
 /// near_only cells: each such cell's contribution to coarse row (J, K) moves from the
 /// standard weights (already summed) to its own, so that R stays exactly P^T.
 void correct_near_only(const Level& fine, const Children& cz, int c, int K, const Children& cy,
-                       int bb, int J, int coarse_nx, float* out) {
+                       int bb, int J, const Eigen::Vector3i& coarse_cells, float* out) {
   const std::int64_t fnx = fine.cells.x();
   const std::int64_t row = fnx * (cy.fine[bb] + std::int64_t(fine.cells.y()) * cz.fine[c]);
+  const Parents pz = parents_of(cz.fine[c], coarse_cells.z());
+  const Parents py = parents_of(cy.fine[bb], coarse_cells.y());
+  const float standard_zy = cz.weight[c] * cy.weight[bb];
   for (int i = 0; i < fnx; ++i) {
     const std::uint8_t bits = fine.near_only[row + i];
     if (bits == 0) continue;
-    const float wz = weight_near_only(cz.weight[c], cz.fine[c], K, bits, 2);
-    const float wy = weight_near_only(cy.weight[bb], cy.fine[bb], J, bits, 1);
-    const float standard_zy = cz.weight[c] * cy.weight[bb];
-    const Parents px = parents_of(i, coarse_nx);
+    const float wz = weight_towards(parents_near_only(pz, bits, 2), K);
+    const float wy = weight_towards(parents_near_only(py, bits, 1), J);
+    const Parents px = parents_of(i, coarse_cells.x());
+    const Parents qx = parents_near_only(px, bits, 0);
     const float r = fine.r[row + i];
     for (const auto& [I, w] : {std::pair{px.first, px.first_weight},
                                std::pair{px.second, px.second_weight}}) {
       if (w == 0.0f) continue;
-      out[I] += (wz * wy * weight_near_only(w, i, I, bits, 0) - standard_zy * w) * r;
+      out[I] += (wz * wy * weight_towards(qx, I) - standard_zy * w) * r;
     }
   }
 }
@@ -294,7 +296,7 @@ void restrict_residual(const Level& fine, const Level& coarse,
         for (int c = 0; c < cz.count; ++c)
           for (int bb = 0; bb < cy.count; ++bb)
             if (fine.row_near_only[cy.fine[bb] + std::int64_t(fine.cells.y()) * cz.fine[c]])
-              correct_near_only(fine, cz, c, K, cy, bb, J, n.x(), out);
+              correct_near_only(fine, cz, c, K, cy, bb, J, n, out);
       }
   }
 }
