@@ -4,6 +4,9 @@
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/Prune.h>
+#include <algorithm>
+#include <cmath>
+#include <memory>
 #include <mutex>
 #include <system_error>
 #include <vector>
@@ -62,6 +65,8 @@ openvdb::GridBase::Ptr scalar_grid(const sdk::FieldView& field, const VdbOptions
       sample_box(field), const_cast<double*>(field.data[0]));
   openvdb::tools::copyFromDense(dense, *grid, static_cast<float>(options.background_tolerance));
   grid->setGridClass(field.name == "density" ? openvdb::GRID_FOG_VOLUME : openvdb::GRID_UNKNOWN);
+  // Inactive all-background leaves and nodes collapse to tiles (smaller files).
+  openvdb::tools::pruneInactive(grid->tree());
   return grid;
 }
 
@@ -78,6 +83,100 @@ openvdb::GridBase::Ptr vector_grid(const sdk::FieldView& field, const VdbOptions
                                 openvdb::Vec3s(static_cast<float>(options.background_tolerance)));
   grid->setGridClass(openvdb::GRID_UNKNOWN);
   grid->setVectorType(openvdb::VEC_CONTRAVARIANT_RELATIVE);  // a velocity (OpenVDB Types.h)
+  openvdb::tools::pruneInactive(grid->tree());
+  return grid;
+}
+
+bool is_level_set(const sdk::FieldView& field) {
+  return field.components == 1 && field.name == kLevelSetField;
+}
+
+/// min(half_width dx, max |φ|): the band half-width, never wider than the fluid's own
+/// clamp (else the clamped plateau would be "inside the band" and all of it active). When
+/// max |φ| is below half_width dx, samples with |φ| = max |φ| become inactive ±background,
+/// which is their value: nothing is lost. All-zero φ falls back to half_width dx.
+double level_set_background(const sdk::FieldView& field, double half_width_voxels) {
+  const long n = static_cast<long>(sample_count(field));
+  const double* phi = field.data[0];
+  double largest = 0.0;
+#pragma omp parallel for reduction(max : largest)
+  for (long s = 0; s < n; ++s) largest = std::max(largest, std::abs(phi[s]));
+  const double band = half_width_voxels * field.dx;
+  return largest > 0.0 ? std::min(band, largest) : band;
+}
+
+/// A narrow-band level set in OpenVDB's convention (Museth 2013, "VDB: High-resolution
+/// sparse volumes with dynamic topology"; what tools::meshToLevelSet produces): active
+/// voxels hold φ where |φ| < background, inactive ones −background inside (φ < 0) and
+/// +background outside. Built as a sparse fill, one 8³ leaf block per iteration (blocks in
+/// parallel, then handed to the tree serially): a block with no band voxel becomes an
+/// inactive −background tile when it lies wholly inside the water and the field's box,
+/// and stays background (air) otherwise. The water's interior is never active, and stored
+/// voxel by voxel only in blocks that the box's far faces cut.
+openvdb::GridBase::Ptr level_set_grid(const sdk::FieldView& field, const VdbOptions& options) {
+  using Leaf = openvdb::FloatTree::LeafNodeType;
+  constexpr int kLeafDim = static_cast<int>(Leaf::DIM);
+  const float background =
+      static_cast<float>(level_set_background(field, options.level_set_half_width));
+  auto grid = openvdb::FloatGrid::create(background);
+  const std::array<int, 3> dims = field.dims;
+  const std::array<int, 3> blocks{(dims[0] + kLeafDim - 1) / kLeafDim,
+                                  (dims[1] + kLeafDim - 1) / kLeafDim,
+                                  (dims[2] + kLeafDim - 1) / kLeafDim};
+  const long block_count = static_cast<long>(blocks[0]) * blocks[1] * blocks[2];
+  const double* phi = field.data[0];
+  // Per block: its leaf when it holds band voxels, else whether it is an inside tile.
+  std::vector<std::unique_ptr<Leaf>> leaves(static_cast<size_t>(block_count));
+  std::vector<char> inside_tile(static_cast<size_t>(block_count), 0);
+
+#pragma omp parallel for schedule(dynamic, 8)
+  for (long b = 0; b < block_count; ++b) {
+    const int bi = static_cast<int>(b % blocks[0]);
+    const int bj = static_cast<int>((b / blocks[0]) % blocks[1]);
+    const int bk = static_cast<int>(b / (static_cast<long>(blocks[0]) * blocks[1]));
+    const openvdb::Coord origin(kLeafDim * bi, kLeafDim * bj, kLeafDim * bk);
+    auto leaf = std::make_unique<Leaf>(origin, background, false);
+    long band = 0, inside = 0;
+    for (int k = origin.z(); k < std::min(origin.z() + kLeafDim, dims[2]); ++k)
+      for (int j = origin.y(); j < std::min(origin.y() + kLeafDim, dims[1]); ++j)
+        for (int i = origin.x(); i < std::min(origin.x() + kLeafDim, dims[0]); ++i) {
+          const size_t s = static_cast<size_t>(i) +
+                           static_cast<size_t>(dims[0]) *
+                               (static_cast<size_t>(j) + static_cast<size_t>(dims[1]) * k);
+          const float value = static_cast<float>(phi[s]);
+          const openvdb::Index offset = Leaf::coordToOffset(openvdb::Coord(i, j, k));
+          if (std::abs(value) < background) {
+            leaf->setValueOn(offset, value);
+            ++band;
+          } else if (value < 0.0f) {
+            leaf->setValueOff(offset, -background);
+            ++inside;
+          }
+        }
+    if (band > 0 || (inside > 0 && inside < static_cast<long>(Leaf::SIZE))) {
+      // Band voxels, or inactive water beside air: against the box's far faces, where the
+      // block's voxels beyond the box stay air.
+      leaves[static_cast<size_t>(b)] = std::move(leaf);
+    } else if (inside == static_cast<long>(Leaf::SIZE)) {
+      inside_tile[static_cast<size_t>(b)] = 1;
+    }
+  }
+  auto& tree = grid->tree();
+  for (long b = 0; b < block_count; ++b) {
+    if (auto& leaf = leaves[static_cast<size_t>(b)]) {
+      tree.addLeaf(leaf.release());  // the tree takes ownership
+    } else if (inside_tile[static_cast<size_t>(b)]) {
+      const int bi = static_cast<int>(b % blocks[0]);
+      const int bj = static_cast<int>((b / blocks[0]) % blocks[1]);
+      const int bk = static_cast<int>(b / (static_cast<long>(blocks[0]) * blocks[1]));
+      tree.addTile(/*level=*/1, openvdb::Coord(kLeafDim * bi, kLeafDim * bj, kLeafDim * bk),
+                   -background, false);  // a leaf-sized tile
+    }
+  }
+  // Merges uniform tiles upward. Not pruneLevelSet: it would give an all-inactive leaf
+  // holding both signs (water at the box's far faces) the sign of its first voxel.
+  openvdb::tools::prune(tree);
+  grid->setGridClass(openvdb::GRID_LEVEL_SET);
   return grid;
 }
 
@@ -85,6 +184,7 @@ openvdb::GridBase::Ptr vector_grid(const sdk::FieldView& field, const VdbOptions
 
 std::string vdb_grid_name(const sdk::FieldView& field, const VdbOptions& options) {
   if (field.components == 3 && field.name == "velocity") return options.velocity_name;
+  if (is_level_set(field)) return kLevelSetGridName;
   return field.name;
 }
 
@@ -95,21 +195,15 @@ void write_vdb_frame(const std::filesystem::path& file, std::span<const sdk::Fie
   for (const auto& field : fields) {
     if (field.dims[0] <= 0 || field.dims[1] <= 0 || field.dims[2] <= 0) continue;
     check_field(field);
-    openvdb::GridBase::Ptr grid =
-        field.components == 1 ? scalar_grid(field, options) : vector_grid(field, options);
+    openvdb::GridBase::Ptr grid = is_level_set(field)     ? level_set_grid(field, options)
+                                  : field.components == 1 ? scalar_grid(field, options)
+                                                          : vector_grid(field, options);
     grid->setName(vdb_grid_name(field, options));
     grid->setTransform(sample_transform(field));
     grid->setSaveFloatAsHalf(options.half_float);
     grid->insertMeta("shellflow_sample_location",
                      openvdb::StringMetadata(location_name(field.location)));
     grids.push_back(grid);
-  }
-  for (auto& grid : grids) {
-    // Inactive all-background leaves and nodes collapse to tiles (smaller files).
-    if (auto g = openvdb::gridPtrCast<openvdb::FloatGrid>(grid))
-      openvdb::tools::pruneInactive(g->tree());
-    if (auto g = openvdb::gridPtrCast<openvdb::Vec3SGrid>(grid))
-      openvdb::tools::pruneInactive(g->tree());
   }
 
   openvdb::MetaMap metadata;

@@ -19,8 +19,10 @@ sdk::Schema VdbWriter::schema() {
   using sdk::Schema;
   return Schema::object(
              "one OpenVDB file per frame, <folder>/<scene>_<frame>.vdb, with the fluid's grids "
-             "(FloatGrid per scalar such as density and temperature, Vec3SGrid for velocity); "
-             "readable by Blender and Houdini")
+             "(FloatGrid per scalar such as density and temperature, Vec3SGrid for velocity; "
+             "the water's level set phi as the narrow-band level set FloatGrid \"surface\", "
+             "class LEVEL_SET, background = its band half-width in metres, negative inside "
+             "the water); readable by Blender and Houdini")
       .field("folder", Schema::string("volumes").doc("sub-folder of the run's output folder"))
       .field("every", Schema::integer(1).min(1).doc("write every n-th frame (frame 0, n, 2n, ...)"))
       .field("background_tolerance",
@@ -32,7 +34,12 @@ sdk::Schema VdbWriter::schema() {
                  .one_of({"velocity", "vel"})
                  .doc("grid name of the velocity: \"velocity\" (Blender) or \"vel\" (Houdini)"))
       .field("half_float",
-             Schema::boolean(false).doc("store values as 16-bit floats on disk (half the size)"));
+             Schema::boolean(false).doc("store values as 16-bit floats on disk (half the size)"))
+      .field("level_set_half_width",
+             Schema::number(3.0).min(1.0).unit("voxels").doc(
+                 "half-width of the \"surface\" grid's narrow band: voxels with |phi| below "
+                 "it are active, the grid's background is this times dx (or the largest |phi| "
+                 "when the fluid clamps phi closer to the surface)"));
 }
 
 VdbWriter::VdbWriter(const nlohmann::json& params, const sdk::Context& /*context*/)
@@ -41,12 +48,15 @@ VdbWriter::VdbWriter(const nlohmann::json& params, const sdk::Context& /*context
   m_options.background_tolerance = params.value("background_tolerance", 1e-4);
   m_options.velocity_name = params.value("velocity_name", std::string("velocity"));
   m_options.half_float = params.value("half_float", false);
+  m_options.level_set_half_width = params.value("level_set_half_width", 3.0);
   if (m_every < 1) throw ConfigError("/every", "must be at least 1");
   if (m_folder_name.empty()) throw ConfigError("/folder", "must not be empty");
   if (!(m_options.background_tolerance >= 0.0))
     throw ConfigError("/background_tolerance", "must be a number >= 0");
   if (m_options.velocity_name != "velocity" && m_options.velocity_name != "vel")
     throw ConfigError("/velocity_name", "must be \"velocity\" or \"vel\"");
+  if (!(m_options.level_set_half_width >= 1.0))
+    throw ConfigError("/level_set_half_width", "must be a number >= 1 (voxels)");
 }
 
 void VdbWriter::begin(const sdk::RunInfo& info) {

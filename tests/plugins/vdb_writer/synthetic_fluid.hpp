@@ -2,6 +2,7 @@
 // A FluidSolver test double for the writer tests: it owns a few grid fields filled by
 // the test and shows them through fields(); the solver calls do nothing.
 
+#include <algorithm>
 #include <array>
 #include <deque>
 #include <limits>
@@ -92,5 +93,19 @@ class SyntheticFluid final : public sdk::FluidSolver {
  private:
   std::deque<Field> m_fields;  // a deque: add() keeps earlier references valid
 };
+
+/// The water level set a fluid shows writers: node field "phi" (φ ≤ 0 water), the signed
+/// distance to a sphere of `radius` about `centre`, clamped to ±band as the fluid clamps
+/// it beyond its band.
+inline SyntheticFluid::Field& add_sphere_phi(SyntheticFluid& fluid, const Eigen::Vector3d& origin,
+                                             double dx, std::array<int, 3> dims,
+                                             const Eigen::Vector3d& centre, double radius,
+                                             double band) {
+  auto& phi = fluid.add("phi", sdk::FieldView::Location::Node, origin, dx, dims, 1);
+  phi.fill(0, [&](const Eigen::Vector3d& x) {
+    return std::clamp((x - centre).norm() - radius, -band, band);
+  });
+  return phi;
+}
 
 }  // namespace shellflow::writer_testing

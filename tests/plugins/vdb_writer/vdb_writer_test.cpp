@@ -8,6 +8,7 @@
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Interpolation.h>
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -75,13 +76,14 @@ class VdbWriterTest : public ::testing::Test {
                   [=](const Eigen::Vector3d& x) { return inside(x) ? 0.1 * x.z() + 1e-3 : 0.0; });
   }
 
-  VdbWriter make_writer(double tolerance, const std::string& velocity_name = "vel",
-                        int every = 1) const {
+  VdbWriter make_writer(double tolerance, const std::string& velocity_name = "vel", int every = 1,
+                        double level_set_half_width = 3.0) const {
     const nlohmann::json params = {{"folder", "volumes"},
                                    {"every", every},
                                    {"background_tolerance", tolerance},
                                    {"velocity_name", velocity_name},
-                                   {"half_float", false}};
+                                   {"half_float", false},
+                                   {"level_set_half_width", level_set_half_width}};
     return VdbWriter(params, sdk::Context{});
   }
 
@@ -222,6 +224,128 @@ TEST_F(VdbWriterTest, WritesGridsWithBlenderNamesTransformsAndExactFloatValues) 
   EXPECT_EQ(expected_active, 8u * 7u * 5u);  // nodes 2..9 x 2..8 x 2..6 of the box
 }
 
+/// The narrow band of a level set read back: every sample of `phi` is active exactly when
+/// |float(φ)| < background, with value float(φ) (only the double → float rounding), and
+/// inactive at −background in the water (φ < 0) or +background in the air otherwise.
+/// `band` receives the number of active samples.
+void expect_narrow_band(const openvdb::FloatGrid& grid, const SyntheticFluid::Field& phi,
+                        openvdb::Index64& band) {
+  const float background = grid.background();
+  auto accessor = grid.getConstAccessor();
+  band = 0;
+  for (int k = 0; k < phi.dims[2]; ++k)
+    for (int j = 0; j < phi.dims[1]; ++j)
+      for (int i = 0; i < phi.dims[0]; ++i) {
+        const float value = static_cast<float>(phi.data[0][phi.index(i, j, k)]);
+        const bool active = std::abs(value) < background;
+        band += active;
+        const openvdb::Coord ijk(i, j, k);
+        ASSERT_EQ(accessor.isValueOn(ijk), active) << ijk << " phi " << value;
+        const float expected = active ? value : (value < 0.0f ? -background : background);
+        ASSERT_EQ(accessor.getValue(ijk), expected) << ijk << " phi " << value;
+      }
+  EXPECT_EQ(grid.activeVoxelCount(), band);  // nothing active outside the field's box
+  for (auto it = grid.cbeginValueOn(); it; ++it) {
+    EXPECT_TRUE(it.isVoxelValue()) << "an active tile at " << it.getCoord();
+    EXPECT_LT(std::abs(*it), background) << it.getCoord();
+  }
+}
+
+TEST_F(VdbWriterTest, WaterLevelSetBecomesANarrowBandSurfaceGrid) {
+  // A water drop: φ of a sphere of radius 0.3 (7.5 dx) on 30 x 28 x 26 nodes, dx = 0.04,
+  // clamped to ±4 dx as a fluid clamps it beyond its band; velocity beside it, no density.
+  SyntheticFluid fluid;
+  const double dx = 0.04;
+  const Eigen::Vector3d corner(-0.5, 0.1, -0.45);
+  const Eigen::Vector3d centre = corner + dx * Eigen::Vector3d(14.3, 13.6, 12.2);
+  const auto& phi =
+      writer_testing::add_sphere_phi(fluid, corner, dx, {30, 28, 26}, centre, 0.3, 4.0 * dx);
+  auto& velocity = fluid.add("velocity", Location::Node, corner, dx, {30, 28, 26}, 3);
+  velocity.fill(1, [&](const Eigen::Vector3d& x) { return x.x() - centre.x(); });
+  auto writer = make_writer(1e-4);  // level_set_half_width 3 voxels
+  writer.begin({m_out, "drop", 24.0});
+  writer.write_frame({3, 0.125, {}, &fluid});
+
+  auto grids = read_grids(m_out / "volumes" / "drop_0003.vdb");
+  ASSERT_EQ(grids.size(), 2u);
+  ASSERT_TRUE(grids.count("surface") && grids.count("vel"));
+  auto surface = openvdb::gridPtrCast<openvdb::FloatGrid>(grids["surface"]);
+  ASSERT_TRUE(surface);
+  EXPECT_EQ(surface->getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_EQ(surface->metaValue<std::string>("shellflow_sample_location"), "node");
+  // The fluid's clamp (4 dx) is wider than the writer's band: background = 3 dx.
+  EXPECT_EQ(surface->background(), static_cast<float>(3.0 * dx));
+  expect_transform(*surface, phi);
+
+  openvdb::Index64 band = 0;
+  expect_narrow_band(*surface, phi, band);
+  // A shell of about 4π r² · 6 dx / dx³ ≈ 4200 samples out of 21840: sparse, not empty.
+  EXPECT_GT(band, 2000u);
+  EXPECT_LT(band, phi.data[0].size() / 3);
+
+  auto accessor = surface->getConstAccessor();
+  // The drop's centre (node (14, 14, 12), 0.4 dx from the centre) is deep inside.
+  EXPECT_FALSE(accessor.isValueOn(openvdb::Coord(14, 14, 12)));
+  EXPECT_EQ(accessor.getValue(openvdb::Coord(14, 14, 12)), -surface->background());
+  // Far outside the band and outside the box: inactive air.
+  for (const auto& ijk : {openvdb::Coord(0, 0, 0), openvdb::Coord(-40, -40, -40),
+                          openvdb::Coord(29, 27, 25), openvdb::Coord(200, 5, 5)}) {
+    EXPECT_FALSE(accessor.isValueOn(ijk)) << ijk;
+    EXPECT_EQ(accessor.getValue(ijk), surface->background()) << ijk;
+  }
+  // A band node found through world space: the transform puts φ where the fluid had it.
+  openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> phi_at(*surface);
+  const int i = 14, j = 14, k = 20;  // 7.8 dx from the centre: 0.3 dx outside the sphere
+  const double expected = phi.data[0][phi.index(i, j, k)];
+  ASSERT_GT(expected, 0.0);
+  ASSERT_LT(expected, 3.0 * dx);
+  const Eigen::Vector3d x = phi.position(i, j, k);
+  EXPECT_NEAR(phi_at.wsSample(openvdb::Vec3d(x.x(), x.y(), x.z())), expected,
+              kSamplerRelativeTolerance * expected);
+}
+
+TEST_F(VdbWriterTest, PoolInteriorIsStoredAsInsideTilesAndANarrowFluidBandSetsTheBackground) {
+  // A pool: water below y = 0.6 on 21 x 20 x 24 nodes of dx = 0.05 from y = 0 (surface on
+  // node layer j = 12), φ = y − 0.6 clamped to ±2 dx — narrower than the writer's 4-voxel
+  // band, so the background is the fluid's clamp, 2 dx, and the clamped plateau stays
+  // inactive. The water reaches the box's walls, also the far wall x = 20 that ends inside
+  // an 8^3 block (x = 16..23).
+  SyntheticFluid fluid;
+  const double dx = 0.05;
+  auto& phi =
+      fluid.add("phi", Location::Node, Eigen::Vector3d(-0.6, 0.0, -0.6), dx, {21, 20, 24}, 1);
+  phi.fill(0, [&](const Eigen::Vector3d& x) { return std::clamp(x.y() - 0.6, -2 * dx, 2 * dx); });
+  auto writer = make_writer(0.0, "vel", 1, 4.0);
+  writer.begin({m_out, "pool", 24.0});
+  writer.write_frame({0, 0.0, {}, &fluid});
+  auto grids = read_grids(m_out / "volumes" / "pool_0000.vdb");
+  ASSERT_EQ(grids.size(), 1u);
+  auto surface = openvdb::gridPtrCast<openvdb::FloatGrid>(grids["surface"]);
+  ASSERT_TRUE(surface);
+  EXPECT_EQ(surface->background(), static_cast<float>(2.0 * dx));
+  // The band is the node layers with |y − 0.6| < 2 dx: j = 11, 12, 13 (j = 10 and 14 sit
+  // on the clamp, up to round-off that float rounding removes).
+  openvdb::Index64 band = 0;
+  expect_narrow_band(*surface, phi, band);
+  EXPECT_EQ(band, 3u * 21u * 24u);
+  // Sparse storage, by 8^3 blocks (3 along x, 3 along y, 3 along z): the block layer
+  // j = 8..15 holds the band, 9 leaves; in the layer below (j = 0..7, all water) the 6
+  // blocks wholly inside the box are inactive −background tiles and the 3 that the far
+  // wall x = 20 cuts are leaves (water inside the box, air beyond it); the partial layer
+  // above (j = 16..19, air) is background. 12 leaves.
+  EXPECT_EQ(surface->tree().leafCount(), 12u);
+  auto accessor = surface->getConstAccessor();
+  EXPECT_EQ(accessor.getValue(openvdb::Coord(5, 2, 17)), -surface->background());
+  EXPECT_FALSE(accessor.isValueOn(openvdb::Coord(5, 2, 17)));
+  // Depth 2: a tile of the lower internal node (root 0, internal 1 and 2, leaf voxel 3).
+  EXPECT_EQ(accessor.getValueDepth(openvdb::Coord(5, 2, 17)), 2);
+  // Below the floor and beyond the far wall (outside the box, even in a block that holds
+  // water): air.
+  EXPECT_EQ(accessor.getValue(openvdb::Coord(5, -1, 5)), surface->background());
+  EXPECT_EQ(accessor.getValue(openvdb::Coord(20, 2, 5)), -surface->background());
+  EXPECT_EQ(accessor.getValue(openvdb::Coord(21, 2, 5)), surface->background());
+}
+
 TEST_F(VdbWriterTest, ValuesWithinTheBackgroundToleranceBecomeInactive) {
   SyntheticFluid fluid;
   make_puff(fluid);
@@ -271,6 +395,15 @@ TEST(VdbWriterParams, RejectsWhatTheSchemaCannotCheck) {
     FAIL() << "an empty folder was accepted";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.json_path(), "/folder");
+  }
+  nlohmann::json narrow_band = empty_folder;
+  narrow_band["folder"] = "volumes";
+  narrow_band["level_set_half_width"] = 0.5;
+  try {
+    VdbWriter writer(narrow_band, sdk::Context{});
+    FAIL() << "a level set band narrower than a voxel was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.json_path(), "/level_set_half_width");
   }
   EXPECT_EQ(vdb_file_name("plume", 12), "plume_0012.vdb");
   EXPECT_EQ(vdb_file_name("plume", 12345), "plume_12345.vdb");

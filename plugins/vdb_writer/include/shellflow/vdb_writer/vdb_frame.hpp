@@ -15,6 +15,13 @@
 //     of 0 become the inactive background 0: the grid stores only the smoke.
 //   - "density" has grid class FOG_VOLUME; vectors are VEC_CONTRAVARIANT_RELATIVE (a
 //     velocity); the vector field "velocity" is named `velocity_name`.
+//   - the water's level set, the scalar field "phi" (φ ≤ 0 water, a signed distance [m]
+//     near the surface), becomes the FloatGrid "surface" (the name Houdini gives an SDF)
+//     of class LEVEL_SET, in OpenVDB's narrow-band form: background b = min(
+//     level_set_half_width dx, max |φ|) > 0, voxels with |φ| < b active with φ, the rest
+//     inactive at −b (water) or +b (air, and everything outside the field's box). b never
+//     exceeds the fluid's own clamp, so a narrower fluid band does not activate its
+//     plateau. `background_tolerance` does not apply to it.
 
 #include <filesystem>
 #include <span>
@@ -24,10 +31,15 @@
 
 namespace shellflow::vdb_writer {
 
+/// The fluid field written as a level set, and its grid name in the file.
+inline constexpr const char* kLevelSetField = "phi";
+inline constexpr const char* kLevelSetGridName = "surface";
+
 struct VdbOptions {
   double background_tolerance = 0.0;       ///< |value| <= this → inactive background
   std::string velocity_name = "velocity";  ///< "velocity" (Blender) or "vel" (Houdini)
   bool half_float = false;                 ///< store floats as 16-bit halves on disk
+  double level_set_half_width = 3.0;       ///< "surface" band half-width [voxels]
 };
 
 /// Per-file metadata.
