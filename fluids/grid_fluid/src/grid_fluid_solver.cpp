@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
 
@@ -27,13 +28,13 @@ grid::UniformGrid make_grid(const nlohmann::json& params) {
   const int resolution = params.at("resolution").get<int>();
   const double dx = extent.maxCoeff() / resolution;
   Eigen::Vector3i cells;
-  for (int a = 0; a < 3; ++a)
-    cells[a] = std::max(1, static_cast<int>(std::lround(extent[a] / dx)));
+  for (int a = 0; a < 3; ++a) cells[a] = std::max(1, static_cast<int>(std::lround(extent[a] / dx)));
   const Eigen::Vector3d upper = lo + dx * cells.cast<double>();
   if ((upper - hi).cwiseAbs().maxCoeff() > 1e-9 * extent.maxCoeff())
-    spdlog::info("grid_fluid: domain max moved from ({}, {}, {}) to ({}, {}, {}) to fit "
-                 "cubic cells of {} m",
-                 hi.x(), hi.y(), hi.z(), upper.x(), upper.y(), upper.z(), dx);
+    spdlog::info(
+        "grid_fluid: domain max moved from ({}, {}, {}) to ({}, {}, {}) to fit "
+        "cubic cells of {} m",
+        hi.x(), hi.y(), hi.z(), upper.x(), upper.y(), upper.z(), dx);
   return grid::UniformGrid(lo, dx, cells);
 }
 
@@ -45,7 +46,7 @@ ProjectionSettings projection_settings(const nlohmann::json& params) {
   const auto& p = params.at("pressure");
   ProjectionSettings s;
   s.solver = p.at("solver").get<std::string>() == "cholmod" ? PressureSolver::Cholmod
-                                                             : PressureSolver::Pcg;
+                                                            : PressureSolver::Pcg;
   s.preconditioner = p.at("preconditioner").get<std::string>() == "mic0"
                          ? PressurePreconditioner::Mic0
                          : PressurePreconditioner::Multigrid;
@@ -65,45 +66,57 @@ sdk::Schema GridFluid::schema() {
       .field("domain",
              Schema::object("the simulated box")
                  .field("min", Schema::vec3(0.0, 0.0, 0.0).unit("m").doc("lower corner"))
-                 .field("max", Schema::vec3(1.0, 1.0, 1.0).unit("m").doc(
-                                   "upper corner (moved to fit cubic cells if needed)")))
+                 .field("max", Schema::vec3(1.0, 1.0, 1.0)
+                                   .unit("m")
+                                   .doc("upper corner (moved to fit cubic cells if needed)")))
       .field("resolution", Schema::integer(32).min(2).max(1024).doc(
                                "cells along the longest side of the domain; Δx follows"))
-      .field("density", Schema::number(1.0).min(0.0, false).unit("kg/m^3").doc(
-                            "fluid density ρ: sets the fluid's inertia against two-way shells "
-                            "(§5.1; PhysBAM smoke: 1; air at 20 °C: 1.2)"))
+      .field("density", Schema::number(1.0)
+                            .min(0.0, false)
+                            .unit("kg/m^3")
+                            .doc("fluid density ρ: sets the fluid's inertia against two-way shells "
+                                 "(§5.1; PhysBAM smoke: 1; air at 20 °C: 1.2)"))
       .field("boundary", DomainBoundary::schema())
-      .field("epsilon", Schema::number(1e-3).min(1e-9, false).max(0.1).unit("Δx").doc(
-                            "wedge thickness ε of the shells in units of Δx (§3; PhysBAM: "
-                            "1e-3); semi-Lagrangian rays use 2ε (§4.1)"))
-      .field("pressure",
-             Schema::object("the §4.3 pressure solve")
-                 .field("solver", Schema::string("pcg").one_of({"pcg", "cholmod"}).doc(
-                                      "pcg: conjugate gradients with MIC(0); cholmod: direct "
-                                      "SuiteSparse factorisation (reference, small grids)"))
-                 .field("preconditioner",
-                        Schema::string("multigrid").one_of({"multigrid", "mic0"}).doc(
-                            "of pcg. multigrid: a V-cycle (McAdams et al. 2010), iterations "
-                            "nearly independent of the grid (plume to 1e-5: 5 per step at 32^3 "
-                            "and 64^3 where MIC(0) takes 24 and 43), parallel; the default, as "
-                            "the plume's projection is 2x faster at 32^3 and 5x at 64^3 even "
-                            "on one thread (bench_grid_fluid). mic0: modified incomplete "
-                            "Cholesky (Bridson 2008), sequential triangular solves"))
-                 .field("tolerance", Schema::number(1e-6).min(0.0, false).max(0.1).doc(
-                                         "relative residual |b − Ap|/|b| of PCG; the largest "
-                                         "cell divergence is also kept below tolerance × "
-                                         "max|u*|"))
-                 .field("max_iterations",
-                        Schema::integer(2000).min(1).doc("PCG iteration cap per region"))
-                 .field("coupling_tolerance",
-                        Schema::number(1e-4).min(0.0, false).max(0.1).doc(
-                            "relative residual of the §5.1 coupling-pressure solve (two-way "
-                            "shells only); it sets forces, not the velocity field, so it can be "
-                            "looser than the projection's")))
+      .field("epsilon", Schema::number(1e-3)
+                            .min(1e-9, false)
+                            .max(0.1)
+                            .unit("Δx")
+                            .doc("wedge thickness ε of the shells in units of Δx (§3; PhysBAM: "
+                                 "1e-3); semi-Lagrangian rays use 2ε (§4.1)"))
+      .field(
+          "pressure",
+          Schema::object("the §4.3 pressure solve")
+              .field("solver", Schema::string("pcg")
+                                   .one_of({"pcg", "cholmod"})
+                                   .doc("pcg: conjugate gradients with MIC(0); cholmod: direct "
+                                        "SuiteSparse factorisation (reference, small grids)"))
+              .field("preconditioner",
+                     Schema::string("multigrid")
+                         .one_of({"multigrid", "mic0"})
+                         .doc("of pcg. multigrid: a V-cycle (McAdams et al. 2010), iterations "
+                              "nearly independent of the grid (plume to 1e-5: 5 per step at 32^3 "
+                              "and 64^3 where MIC(0) takes 24 and 43), parallel; the default, as "
+                              "the plume's projection is 2x faster at 32^3 and 5x at 64^3 even "
+                              "on one thread (bench_grid_fluid). mic0: modified incomplete "
+                              "Cholesky (Bridson 2008), sequential triangular solves"))
+              .field("tolerance", Schema::number(1e-6)
+                                      .min(0.0, false)
+                                      .max(0.1)
+                                      .doc("relative residual |b − Ap|/|b| of PCG; the largest "
+                                           "cell divergence is also kept below tolerance × "
+                                           "max|u*|"))
+              .field("max_iterations",
+                     Schema::integer(2000).min(1).doc("PCG iteration cap per region"))
+              .field("coupling_tolerance",
+                     Schema::number(1e-4)
+                         .min(0.0, false)
+                         .max(0.1)
+                         .doc("relative residual of the §5.1 coupling-pressure solve (two-way "
+                              "shells only); it sets forces, not the velocity field, so it can be "
+                              "looser than the projection's")))
       .field("smoke",
              Schema::object("smoke physics (§4.1, Fedkiw et al. 2001)")
-                 .field("ambient_temperature",
-                        Schema::number(298.0).min(0.0).unit("K").doc("T_a"))
+                 .field("ambient_temperature", Schema::number(298.0).min(0.0).unit("K").doc("T_a"))
                  .field("density_buoyancy", Schema::number(0.0).min(0.0).unit("m/s^2").doc(
                                                 "α in f = −αρz + β(T − T_a)z (smoke sinks "
                                                 "with density)"))
@@ -118,10 +131,10 @@ sdk::Schema GridFluid::schema() {
                         Schema::number(0.0).min(0.0).max(10.0).doc(
                             "ε_vc in f = ε_vc Δx (N × ω) (PhysBAM smoke: 0.3); 0 turns it "
                             "off")))
-      .field("sources",
-             Schema::array(SmokeSource::schema())
-                 .default_value(Schema::Json::array())
-                 .doc("smoke emitters (spheres and boxes)"));
+      .field("sources", Schema::array(SmokeSource::schema())
+                            .default_value(Schema::Json::array())
+                            .doc("smoke emitters (spheres and boxes)"))
+      .field("water", Liquid::schema().optional());
 }
 
 GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
@@ -150,18 +163,33 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
   m_buoyancy.up.normalize();
   m_vorticity = smoke.at("vorticity_confinement").get<double>();
   const auto& sources = params.at("sources");
+  if (params.contains("water") && !params.at("water").is_null()) {
+    if (!sources.empty())
+      throw ConfigError("/sources",
+                        "smoke emitters in a water scene: put water emitters in "
+                        "/water/sources");
+    m_liquid = std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up);
+  }
   for (size_t i = 0; i < sources.size(); ++i) {
     m_sources.emplace_back(sources[i], "/sources/" + std::to_string(i));
     m_temperature = m_temperature || m_sources.back().temperature().has_value();
   }
-  m_nodes = NodeFields(m_mac.grid(), m_buoyancy.ambient_temperature);
+  m_nodes = NodeFields(m_mac.grid(), m_buoyancy.ambient_temperature, m_liquid == nullptr);
   m_next = m_nodes;
   for (auto& u : m_u_n) u.assign(m_nodes.size(), 0.0);
   apply_boundary_velocities(m_mac, m_boundary);
   const Eigen::Vector3i c = m_mac.grid().cells();
-  spdlog::info("grid_fluid: {}x{}x{} cells, dx = {} m, eps = {} m, {} source(s), temperature {}",
-               c.x(), c.y(), c.z(), m_mac.dx(), m_epsilon, m_sources.size(),
-               m_temperature ? "on" : "off");
+  if (m_liquid) {
+    spdlog::info(
+        "grid_fluid: water, {}x{}x{} cells, dx = {} m, eps = {} m, {} emitter(s), "
+        "volume {} m^3",
+        c.x(), c.y(), c.z(), m_mac.dx(), m_epsilon, m_liquid->sources().size(),
+        m_liquid->initial_volume());
+  } else {
+    spdlog::info("grid_fluid: {}x{}x{} cells, dx = {} m, eps = {} m, {} source(s), temperature {}",
+                 c.x(), c.y(), c.z(), m_mac.dx(), m_epsilon, m_sources.size(),
+                 m_temperature ? "on" : "off");
+  }
 }
 
 std::vector<sdk::Positions> GridFluid::velocities_of(sdk::ShellSet shells) {
@@ -171,8 +199,7 @@ std::vector<sdk::Positions> GridFluid::velocities_of(sdk::ShellSet shells) {
   return v;
 }
 
-bool GridFluid::ensure_geometry(std::unique_ptr<ShellGeometry>& cache,
-                                sdk::ShellSet shells) const {
+bool GridFluid::ensure_geometry(std::unique_ptr<ShellGeometry>& cache, sdk::ShellSet shells) const {
   if (!cache || !cache->same_positions(shells)) {
     cache = std::make_unique<ShellGeometry>(shells, m_epsilon);
     return true;
@@ -207,12 +234,18 @@ double GridFluid::stable_dt(double cfl) const {
   double speed = std::max(m_mac.max_face_speed(), m_shell_speed);
   for (const auto& s : m_sources)
     if (s.velocity() && s.active(m_time)) speed = std::max(speed, s.velocity()->norm());
+  if (m_liquid)
+    for (const auto& s : m_liquid->sources())
+      if (s.velocity() && s.active(m_time)) speed = std::max(speed, s.velocity()->norm());
   for (int a = 0; a < 3; ++a)
     for (int side = 0; side < 2; ++side)
       if (m_boundary.side(a, side).type == BoundaryType::Inflow)
         speed = std::max(speed, m_boundary.side(a, side).velocity.norm());
-  // A body force f changes u by f Δt: allow for it over one cell (Bridson 2008, §3.1).
-  speed += std::sqrt(m_mac.dx() * m_stats.max_force);
+  // A body force f changes u by f Δt: allow for it over one cell (Bridson 2008, §3.1);
+  // water falls under gravity from the first step on.
+  const double force =
+      m_liquid ? std::max(m_stats.max_force, m_context.gravity.norm()) : m_stats.max_force;
+  speed += std::sqrt(m_mac.dx() * force);
   return speed > 0.0 ? cfl * m_mac.dx() / speed : kInf;
 }
 
@@ -240,11 +273,55 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band);
   for (int a = 0; a < 3; ++a) m_u_n[a] = m_nodes.velocity(a);
 
-  // 2. §4.1 semi-Lagrangian advection with visibility.
+  // 2. §4.1 semi-Lagrangian advection with visibility (water: φ along the same rays).
   m_advector.advect(m_nodes, m_next, dt, geom_n, band);
+  if (m_liquid) m_liquid->advect(m_nodes, dt, geom_n, band);
   std::swap(m_nodes, m_next);
 
-  // 3. Sources and body forces on the nodes.
+  // 3. Water: gravity on the nodes (§4.1), emitters; smoke: sources and body forces.
+  if (m_liquid)
+    advect_water_forces(t, dt);
+  else
+    add_smoke_forces(t, dt, geom_n, band);
+
+  // 4. The shells move n → n+1: swept nodes invalidated and refilled (§3).
+  if (shells) {
+    ensure_geometry(m_geometry_np1, shells_np1);
+    m_stats.refill = m_refill.run(geom_n, *m_geometry_np1, m_nodes);
+  }
+  const ShellGeometry& geom_np1 = m_geometry_np1 && shells ? *m_geometry_np1 : none;
+  if (m_liquid) {  // §4.4.1: φ refilled, then a signed distance again, against shells^{n+1}
+    m_liquid->refill(shells ? m_refill.node_valid_before() : std::span<const std::uint8_t>(),
+                     geom_np1);
+    m_liquid->reinitialize(geom_np1, band);
+  }
+
+  // 5. §4.2 increments back to the persistent faces, with visibility at n+1.
+  static const std::array<std::vector<std::uint8_t>, 3> no_faces;
+  m_transfer.increments_to_faces(
+      m_mac, m_nodes, m_u_n,
+      shells ? m_refill.node_valid_before() : std::span<const std::uint8_t>(),
+      shells ? m_refill.face_swept() : no_faces, geom_np1, band, m_boundary);
+  apply_boundary_velocities(m_mac, m_boundary);
+  m_nodes_current = false;
+}
+
+void GridFluid::advect_water_forces(double t, double dt) {
+  const Eigen::Vector3d g = m_context.gravity;
+  for (int a = 0; a < 3; ++a) {
+    if (g[a] == 0.0) continue;
+    auto& u = m_nodes.velocity(a);
+    const std::int64_t n = static_cast<std::int64_t>(u.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < n; ++i) u[i] += dt * g[a];
+  }
+  m_stats.max_force = g.norm();
+  m_liquid->add_sources(t, m_boundary);
+  m_stats.source_nodes = m_liquid->stats().source_nodes;
+}
+
+void GridFluid::add_smoke_forces(double t, double dt, const ShellGeometry& geom_n,
+                                 const geometry::ShellBand* band) {
   for (const auto& s : m_sources)
     m_stats.source_nodes += s.apply(t, m_mac.grid(), m_nodes, m_temperature);
   // Held on the faces through this step's pressure solves; the emitters add volume only
@@ -258,25 +335,8 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   if (m_buoyancy.density_alpha != 0.0 || (m_temperature && m_buoyancy.temperature_beta != 0.0))
     m_stats.max_force = m_forces.add_buoyancy(m_nodes, dt, m_buoyancy, m_temperature);
   if (m_vorticity > 0.0)
-    m_stats.max_force = std::max(
-        m_stats.max_force, m_forces.add_vorticity_confinement(m_nodes, dt, m_vorticity, geom_n, band));
-
-  // 4. The shells move n → n+1: swept nodes invalidated and refilled (§3).
-  if (shells) {
-    ensure_geometry(m_geometry_np1, shells_np1);
-    m_stats.refill = m_refill.run(geom_n, *m_geometry_np1, m_nodes);
-  }
-  const ShellGeometry& geom_np1 = m_geometry_np1 && shells ? *m_geometry_np1 : none;
-
-  // 5. §4.2 increments back to the persistent faces, with visibility at n+1.
-  static const std::array<std::vector<std::uint8_t>, 3> no_faces;
-  m_transfer.increments_to_faces(m_mac, m_nodes, m_u_n,
-                                 shells ? m_refill.node_valid_before()
-                                        : std::span<const std::uint8_t>(),
-                                 shells ? m_refill.face_swept() : no_faces, geom_np1, band,
-                                 m_boundary);
-  apply_boundary_velocities(m_mac, m_boundary);
-  m_nodes_current = false;
+    m_stats.max_force = std::max(m_stats.max_force, m_forces.add_vorticity_confinement(
+                                                        m_nodes, dt, m_vorticity, geom_n, band));
 }
 
 CouplingPressure& GridFluid::coupling_pressure() {
@@ -294,16 +354,21 @@ void GridFluid::coupling_forces(double dt, sdk::ShellSet shells,
   bool two_way = false;
   for (const auto& s : shells) two_way = two_way || s.receives_fluid_forces;
   if (!m_logged_coupling) {
-    spdlog::info(two_way ? "grid_fluid: two-way coupling (§5.1 coupling pressure every step)"
-                         : "grid_fluid: one-way coupling (no shell receives fluid forces)");
+    if (m_liquid && two_way)
+      spdlog::warn(
+          "grid_fluid: water pushes no shell yet (the §5.1 coupling pressure with a "
+          "free surface is not implemented): two-way shells move as boundaries only");
+    else
+      spdlog::info(two_way ? "grid_fluid: two-way coupling (§5.1 coupling pressure every step)"
+                           : "grid_fluid: one-way coupling (no shell receives fluid forces)");
     m_logged_coupling = true;
   }
-  if (!two_way) return;  // skip what the scene does not need: no second solve
+  if (!two_way || m_liquid) return;  // skip what the scene does not need: no second solve
   // Same positions as advect's n+1 shells: its band (margin >= 2Δx) still covers them.
   if (ensure_geometry(m_geometry_np1, shells) || !m_band_used)
     build_band(shells, shells, 2.0 * m_mac.dx());
-  m_stats.coupling = coupling_pressure().compute(m_mac, dt, m_boundary, *m_geometry_np1,
-                                                 m_band, shells, triangle_forces);
+  m_stats.coupling = coupling_pressure().compute(m_mac, dt, m_boundary, *m_geometry_np1, m_band,
+                                                 shells, triangle_forces);
 }
 
 void GridFluid::project(double dt, sdk::ShellSet shells,
@@ -320,7 +385,12 @@ void GridFluid::project(double dt, sdk::ShellSet shells,
   }
   const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
   const ShellGeometry& geom = have_shells ? *m_geometry_np1 : none;
-  m_stats.projection = m_projection.project(m_mac, dt, m_boundary, geom, band);
+  const auto start = std::chrono::steady_clock::now();
+  m_stats.projection = m_projection.project(m_mac, dt, m_boundary, geom, band,
+                                            m_liquid ? &m_liquid->surface() : nullptr);
+  m_t_pressure = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  // §4.4: velocities across the surface, against the effective velocity of the shells.
+  if (m_liquid) m_liquid->extrapolate(m_mac, m_projection, geom, band);
 
   m_shell_speed = 0.0;
   for (const auto& v : effective_velocity)
@@ -347,6 +417,7 @@ void GridFluid::save(sdk::StateWriter& out) const {
   write_vector(const_cast<PressureProjection&>(m_projection).scaled_pressure());
   out.write(m_coupling != nullptr);
   if (m_coupling) write_vector(m_coupling->scaled_pressure());
+  if (m_liquid) write_vector(m_liquid->level_set().phi());
 }
 
 void GridFluid::restore(sdk::StateReader& in) {
@@ -365,6 +436,7 @@ void GridFluid::restore(sdk::StateReader& in) {
   for (int a = 0; a < 3; ++a) read_vector(m_nodes.velocity(a));
   read_vector(m_projection.scaled_pressure());
   if (in.read<bool>()) read_vector(coupling_pressure().scaled_pressure());
+  if (m_liquid) read_vector(m_liquid->level_set().phi());
   m_geometry_n.reset();
   m_geometry_np1.reset();
   m_nodes_current = false;
@@ -387,17 +459,20 @@ std::vector<sdk::FieldView> GridFluid::fields() const {
   };
   using L = sdk::FieldView::Location;
   std::vector<sdk::FieldView> out;
-  out.push_back(view("density", L::Node, Location::Node,
-                     {m_nodes.density().data(), nullptr, nullptr}, 1));
+  if (m_liquid)
+    out.push_back(view("phi", L::Node, Location::Node,
+                       {m_liquid->level_set().phi().data(), nullptr, nullptr}, 1));
+  else
+    out.push_back(
+        view("density", L::Node, Location::Node, {m_nodes.density().data(), nullptr, nullptr}, 1));
   if (m_temperature)
     out.push_back(view("temperature", L::Node, Location::Node,
                        {m_nodes.temperature().data(), nullptr, nullptr}, 1));
-  out.push_back(view("velocity", L::Node, Location::Node,
-                     {m_nodes.velocity(0).data(), m_nodes.velocity(1).data(),
-                      m_nodes.velocity(2).data()},
-                     3));
-  out.push_back(view("pressure", L::Cell, Location::Cell,
-                     {m_mac.pressure().data(), nullptr, nullptr}, 1));
+  out.push_back(view(
+      "velocity", L::Node, Location::Node,
+      {m_nodes.velocity(0).data(), m_nodes.velocity(1).data(), m_nodes.velocity(2).data()}, 3));
+  out.push_back(
+      view("pressure", L::Cell, Location::Cell, {m_mac.pressure().data(), nullptr, nullptr}, 1));
   return out;
 }
 
@@ -421,6 +496,9 @@ std::optional<std::string> GridFluid::find_nonfinite() const {
            std::to_string(ijk.y()) + ", " + std::to_string(ijk.z()) + ")";
   };
   if (const auto i = scan(m_nodes.density()); i >= 0) return node_report("density", i);
+  if (m_liquid)
+    if (const auto i = scan(m_liquid->level_set().phi()); i >= 0)
+      return node_report("level set phi", i);
   if (const auto i = scan(m_nodes.temperature()); i >= 0) return node_report("temperature", i);
   if (const auto i = scan(m_mac.pressure()); i >= 0) return "pressure at cell " + std::to_string(i);
   return std::nullopt;
@@ -449,9 +527,26 @@ void GridFluid::report(sdk::Metrics& out) const {
   out.set("shell_neumann_faces", static_cast<double>(p.shell_neumann_faces));
   out.set("band_nodes", static_cast<double>(m_stats.band_nodes));
   out.set("invalid_nodes", static_cast<double>(m_stats.refill.invalid_nodes));
-  out.set("refill_from_object", static_cast<double>(m_stats.refill.refill.from_object +
-                                                    m_stats.refill.refill.isolated));
-  out.set("smoke_mass", smoke_mass());
+  out.set("refill_from_object",
+          static_cast<double>(m_stats.refill.refill.from_object + m_stats.refill.refill.isolated));
+  if (m_liquid) {
+    const auto& w = m_liquid->stats();
+    const double volume = m_liquid->level_set().volume();
+    out.set("water_volume", volume);
+    out.set("water_volume_change", volume - m_liquid->initial_volume());
+    out.set("liquid_cells", static_cast<double>(p.liquid_cells));
+    out.set("level_set_invalid_nodes", static_cast<double>(w.invalid_nodes));
+    out.set("fmm_interface_nodes", static_cast<double>(w.reinitialization.interface_nodes));
+    out.set("fmm_marched_nodes", static_cast<double>(w.reinitialization.marched_nodes));
+    out.set("extrapolated_faces", static_cast<double>(w.extrapolation.extrapolated_faces));
+    out.set("extrapolation_invalid_faces", static_cast<double>(w.extrapolation.invalid_faces));
+    out.set("t_level_set", w.t_level_set);
+    out.set("t_reinitialize", w.t_reinitialize);
+    out.set("t_extrapolate", w.t_extrapolate);
+  } else {
+    out.set("smoke_mass", smoke_mass());
+  }
+  out.set("t_pressure", m_t_pressure);
   out.set("max_speed", m_mac.max_face_speed());
   const auto& c = m_stats.coupling;
   out.set("coupling_faces", static_cast<double>(c.coupled_faces));
@@ -462,6 +557,24 @@ void GridFluid::report(sdk::Metrics& out) const {
   out.set("coupling_force_y", c.total_force.y());
   out.set("coupling_force_z", c.total_force.z());
   out.set("coupling_triangles_without_jump", static_cast<double>(c.triangles_without_jump));
+}
+
+std::vector<sdk::PlanEntry> GridFluid::plan() const {
+  std::vector<sdk::PlanEntry> out;
+  if (m_liquid) {
+    out.push_back({"water", true,
+                   "/fluid/water given: level set, fast marching, velocity extrapolation, "
+                   "free-surface pressure (§4.4)"});
+    out.push_back({"smoke", false,
+                   "a water scene: no density, temperature, buoyancy or "
+                   "vorticity confinement"});
+  } else {
+    out.push_back({"water", false, "no /fluid/water: no level set"});
+    out.push_back({"smoke", true,
+                   std::string("smoke density") + (m_temperature ? ", temperature" : "") +
+                       (m_vorticity > 0.0 ? ", vorticity confinement" : "")});
+  }
+  return out;
 }
 
 }  // namespace shellflow::grid_fluid

@@ -32,7 +32,8 @@ double GridLaplacian::diagonal(int cell) const {
   const std::int64_t fy = s.face_y_row(j, k) + i;
   const std::int64_t fz = s.face_z_row(j, k) + i;
   return m_weight[0][fx] + m_weight[0][fx + 1] + m_weight[1][fy] + m_weight[1][fy + nx] +
-         m_weight[2][fz] + m_weight[2][fz + s.plane()];
+         m_weight[2][fz] + m_weight[2][fz + s.plane()] +
+         (m_dirichlet.empty() ? 0.0 : m_dirichlet[cell]);
 }
 
 namespace {
@@ -41,8 +42,10 @@ namespace {
 /// OpenMP over (k, j) rows: the one sweep behind both the product and the residual.
 template <class Entry>
 double sum_over_products(const detail::CellStencil& s, const std::array<std::vector<double>, 3>& w,
-                         const Eigen::VectorXd& x, std::int64_t size, Entry&& entry) {
+                         const std::vector<double>& dirichlet, const Eigen::VectorXd& x,
+                         std::int64_t size, Entry&& entry) {
   const double* xp = x.data();
+  const double* d = dirichlet.empty() ? nullptr : dirichlet.data();
   double total = 0.0;
 #pragma omp parallel if (size >= kParallelThreshold) reduction(+ : total)
   {
@@ -53,6 +56,8 @@ double sum_over_products(const detail::CellStencil& s, const std::array<std::vec
         detail::row_sums(s, w[0].data(), w[1].data(), w[2].data(), xp, zeros.data(), j, k,
                          sum.data(), diagonal.data());
         const std::int64_t row = s.cell_row(j, k);
+        if (d != nullptr)
+          for (int i = 0; i < s.nx; ++i) diagonal[i] += d[row + i];
         for (int i = 0; i < s.nx; ++i)
           total += entry(row + i, xp[row + i], diagonal[i] * xp[row + i] - sum[i]);
       }
@@ -64,7 +69,7 @@ double sum_over_products(const detail::CellStencil& s, const std::array<std::vec
 
 double GridLaplacian::multiply_and_dot(const Eigen::VectorXd& x, Eigen::VectorXd& y) const {
   double* yp = y.data();
-  return sum_over_products(detail::stencil_of(m_cells), m_weight, x, size(),
+  return sum_over_products(detail::stencil_of(m_cells), m_weight, m_dirichlet, x, size(),
                            [yp](std::int64_t c, double xc, double ax) {
                              yp[c] = ax;
                              return xc * ax;
@@ -75,7 +80,7 @@ double GridLaplacian::residual(const Eigen::VectorXd& b, const Eigen::VectorXd& 
                                Eigen::VectorXd& r) const {
   const double* bp = b.data();
   double* rp = r.data();
-  return sum_over_products(detail::stencil_of(m_cells), m_weight, x, size(),
+  return sum_over_products(detail::stencil_of(m_cells), m_weight, m_dirichlet, x, size(),
                            [bp, rp](std::int64_t c, double, double ax) {
                              const double v = bp[c] - ax;
                              rp[c] = v;
@@ -95,7 +100,8 @@ SparseMatrix GridLaplacian::to_sparse() const {
     const std::int64_t fy = s.face_y_row(j, k) + i;
     const std::int64_t fz = s.face_z_row(j, k) + i;
     const double d = m_weight[0][fx] + m_weight[0][fx + 1] + m_weight[1][fy] +
-                     m_weight[1][fy + s.nx] + m_weight[2][fz] + m_weight[2][fz + s.plane()];
+                     m_weight[1][fy + s.nx] + m_weight[2][fz] + m_weight[2][fz + s.plane()] +
+                     (m_dirichlet.empty() ? 0.0 : m_dirichlet[c]);
     if (k > 0 && m_weight[2][fz] != 0.0) emit(c - s.plane(), -m_weight[2][fz]);
     if (j > 0 && m_weight[1][fy] != 0.0) emit(c - s.nx, -m_weight[1][fy]);
     if (i > 0 && m_weight[0][fx] != 0.0) emit(c - 1, -m_weight[0][fx]);

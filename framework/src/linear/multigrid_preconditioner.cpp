@@ -76,11 +76,13 @@ void compute_inverse_diagonal(Level& level) {
   level.inverse_diagonal.resize(level.cells.prod());
   const float* x = level.inverse_diagonal.data();  // not read: the sum is ignored
   float* out = level.inverse_diagonal.data();
+  const float* dirichlet = level.dirichlet.empty() ? nullptr : level.dirichlet.data();
   with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
 #pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
     for (int k = 0; k < s.nz; ++k)
       for (int j = 0; j < s.ny; ++j)
         detail::for_row(s, wx, wy, wz, x, j, k, 0, 1, [&](int, std::int64_t c, float d, float) {
+          if (dirichlet != nullptr) d += dirichlet[c];
           out[c] = d > 0.0f ? 1.0f / d : 0.0f;  // isolated cell: left at 0
         });
   });
@@ -167,6 +169,27 @@ void coarsen_weights(const Level& fine, Level& coarse) {
   }
 }
 
+/// Coarse Dirichlet conductances: half the sum over each coarse cell's children (as faces).
+void coarsen_dirichlet(const Level& fine, Level& coarse) {
+  if (fine.dirichlet.empty()) {
+    coarse.dirichlet.clear();
+    return;
+  }
+  const Eigen::Vector3i n = coarse.cells, f = fine.cells;
+  coarse.dirichlet.assign(n.prod(), 0.0f);
+#pragma omp parallel for collapse(2) schedule(static) if (parallel(coarse))
+  for (int K = 0; K < n.z(); ++K)
+    for (int J = 0; J < n.y(); ++J)
+      for (int I = 0; I < n.x(); ++I) {
+        float sum = 0.0f;
+        for (int k = 2 * K; k <= std::min(2 * K + 1, f.z() - 1); ++k)
+          for (int j = 2 * J; j <= std::min(2 * J + 1, f.y() - 1); ++j)
+            for (int i = 2 * I; i <= std::min(2 * I + 1, f.x() - 1); ++i)
+              sum += fine.dirichlet[i + std::int64_t(f.x()) * (j + std::int64_t(f.y()) * k)];
+        coarse.dirichlet[I + std::int64_t(n.x()) * (J + std::int64_t(n.y()) * K)] = 0.5f * sum;
+      }
+}
+
 /// One red (color 0) or black (color 1) Gauss–Seidel half sweep: x_c = (b_c + Σ w x_nb) / A_cc
 /// on the cells with (i + j + k) % 2 == color; cells of one color only read the other's.
 void half_sweep(const Level& level, int color) {
@@ -213,6 +236,7 @@ void level_residual(const Level& level) {
   const float* x = level.x.data();
   const float* b = level.b.data();
   float* r = level.r.data();
+  const float* dirichlet = level.dirichlet.empty() ? nullptr : level.dirichlet.data();
   with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
 #pragma omp parallel if (parallel(level))
     {
@@ -222,6 +246,8 @@ void level_residual(const Level& level) {
         for (int j = 0; j < s.ny; ++j) {
           detail::row_sums(s, wx, wy, wz, x, zeros.data(), j, k, sum.data(), diagonal.data());
           const std::int64_t row = s.cell_row(j, k);
+          if (dirichlet != nullptr)
+            for (int i = 0; i < s.nx; ++i) diagonal[i] += dirichlet[row + i];
           for (int i = 0; i < s.nx; ++i)
             r[row + i] = b[row + i] - (diagonal[i] * x[row + i] - sum[i]);
         }
@@ -253,8 +279,8 @@ void correct_near_only(const Level& fine, const Children& cz, int c, int K, cons
     const Parents px = parents_of(i, coarse_cells.x());
     const Parents qx = parents_near_only(px, bits, 0);
     const float r = fine.r[row + i];
-    for (const auto& [I, w] : {std::pair{px.first, px.first_weight},
-                               std::pair{px.second, px.second_weight}}) {
+    for (const auto& [I, w] :
+         {std::pair{px.first, px.first_weight}, std::pair{px.second, px.second_weight}}) {
       if (w == 0.0f) continue;
       out[I] += (wz * wy * weight_towards(qx, I) - standard_zy * w) * r;
     }
@@ -342,10 +368,10 @@ void prolongate_add(const Level& coarse, const Level& fine,
           const Parents qy = parents_near_only(py, bits, 1);
           const Parents qz = parents_near_only(pz, bits, 2);
           float sum = 0.0f;
-          for (const auto& [zc, zw] : {std::pair{qz.first, qz.first_weight},
-                                       std::pair{qz.second, qz.second_weight}})
-            for (const auto& [yc, yw] : {std::pair{qy.first, qy.first_weight},
-                                         std::pair{qy.second, qy.second_weight}}) {
+          for (const auto& [zc, zw] :
+               {std::pair{qz.first, qz.first_weight}, std::pair{qz.second, qz.second_weight}})
+            for (const auto& [yc, yw] :
+                 {std::pair{qy.first, qy.first_weight}, std::pair{qy.second, qy.second_weight}}) {
               const float* r = xc + zc * cplane + std::int64_t(yc) * cnx;
               sum += zw * yw * (qx.first_weight * r[qx.first] + qx.second_weight * r[qx.second]);
             }
@@ -413,10 +439,12 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
       for (std::int64_t f = 0; f < m; ++f) out[f] = static_cast<float>(w[f]);
     }
   }
+  fine.dirichlet.assign(A.dirichlet().begin(), A.dirichlet().end());
   compute_inverse_diagonal(fine);
   for (size_t l = 1; l < m_levels.size(); ++l) {
     compute_near_only(m_levels[l - 1], m_levels[l].cells);
     coarsen_weights(m_levels[l - 1], m_levels[l]);
+    coarsen_dirichlet(m_levels[l - 1], m_levels[l]);
     compute_inverse_diagonal(m_levels[l]);
   }
 }

@@ -100,7 +100,7 @@ std::optional<std::string> find_runaway(sdk::ShellSet shells, const sdk::FluidSo
 }
 
 /// What the run plan enables and why (DESIGN.md: skip what a scene does not need).
-Json run_plan(const Scene& scene, sdk::ShellSet shells) {
+Json run_plan(const Scene& scene, sdk::ShellSet shells, const sdk::FluidSolver* fluid_solver) {
   bool two_way = false;
   for (const auto& s : shells) two_way = two_way || s.receives_fluid_forces;
   const bool fluid = scene.fluid.has_value();
@@ -127,6 +127,8 @@ Json run_plan(const Scene& scene, sdk::ShellSet shells) {
                       : "not needed without both halves");
   add("writers", !scene.outputs.empty(),
       std::to_string(scene.outputs.size()) + " entries in \"outputs\"");
+  if (fluid_solver != nullptr)
+    for (const auto& e : fluid_solver->plan()) add(e.module.c_str(), e.enabled, e.why);
   return plan;
 }
 
@@ -219,7 +221,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
 
   try {
     loop.start(0.0, frame_dt);
-    run["plan"] = run_plan(scene, loop.shells());
+    run["plan"] = run_plan(scene, loop.shells(), fluid ? fluid->get() : nullptr);
     write_frame(0);
 
     sdk::Metrics reported;

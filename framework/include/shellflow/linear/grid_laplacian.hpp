@@ -6,7 +6,10 @@
 //     e.g. closed by a thin shell);
 //   - a face on the domain boundary couples its cell to p = 0 outside (Dirichlet, open
 //     face: A_cc += w) or to nothing (w = 0: wall or inflow).
-// So (A x)_c = Σ_faces w_f (x_c − x_nb(f)), with x_nb = 0 outside the domain. Cells and
+// So (A x)_c = Σ_faces w_f (x_c − x_nb(f)) + d_c x_c, with x_nb = 0 outside the domain and
+// d_c >= 0 an optional per-cell Dirichlet conductance: the coupling of cell c to p = 0
+// beyond interior faces, as a free surface gives it (§4.3 air cells; with the ghost fluid
+// method of Gibou et al. 2002, 1/θ per face crossing the surface). Cells and
 // faces use the flat layout of grid::UniformGrid (x fastest): cell i + nx (j + ny k);
 // faces of family a have counts cells + e_a, flat i + ni (j + nj k).
 // The products run with OpenMP over (k, j) rows.
@@ -32,7 +35,10 @@ class GridLaplacian final : public LinearOperator {
   /// Weights of the faces of family `axis` (see the layout above).
   std::vector<double>& weights(int axis) { return m_weight[axis]; }
   const std::vector<double>& weights(int axis) const { return m_weight[axis]; }
-  /// A_cc: the sum of the six face weights of cell `cell`.
+  /// Per-cell Dirichlet conductances d_c (empty: none; else one per cell).
+  std::vector<double>& dirichlet() { return m_dirichlet; }
+  const std::vector<double>& dirichlet() const { return m_dirichlet; }
+  /// A_cc: the sum of the six face weights of cell `cell` and its Dirichlet conductance.
   double diagonal(int cell) const;
 
   int size() const override { return m_cells.prod(); }
@@ -48,6 +54,7 @@ class GridLaplacian final : public LinearOperator {
  private:
   Eigen::Vector3i m_cells = Eigen::Vector3i::Zero();
   std::array<std::vector<double>, 3> m_weight;
+  std::vector<double> m_dirichlet;
 };
 
 }  // namespace shellflow::linear

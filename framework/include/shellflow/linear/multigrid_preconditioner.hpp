@@ -70,6 +70,7 @@ class MultigridPreconditioner final : public Preconditioner {
     /// weights are kept as bytes in `open` instead (less memory traffic per sweep).
     bool unit_weights = false;
     std::array<std::vector<std::uint8_t>, 3> open;
+    std::vector<float> dirichlet;         ///< per-cell Dirichlet conductance (empty: none)
     std::vector<float> inverse_diagonal;  ///< 1 / A_cc, 0 for an isolated cell
     /// Per cell, bit d: its face towards its far coarse parent along axis d is closed, so
     /// the transfers to the next level skip that parent (no correction across a shell).

@@ -27,6 +27,13 @@ struct FieldView {
   std::array<const double*, 3> data{nullptr, nullptr, nullptr};
 };
 
+/// One module of a run plan: what a scene turns on or leaves off, and why (run.json).
+struct PlanEntry {
+  std::string module;
+  bool enabled = false;
+  std::string why;
+};
+
 class FluidSolver {
  public:
   virtual ~FluidSolver() = default;
@@ -58,6 +65,9 @@ class FluidSolver {
   virtual std::optional<std::string> find_nonfinite() const { return std::nullopt; }
 
   virtual void report(Metrics& /*out*/) const {}
+
+  /// The fluid's own modules for run.json's run plan (e.g. smoke or water, and why).
+  virtual std::vector<PlanEntry> plan() const { return {}; }
 };
 
 }  // namespace shellflow::sdk

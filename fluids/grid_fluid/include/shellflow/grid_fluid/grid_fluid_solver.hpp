@@ -1,14 +1,19 @@
 #pragma once
-// GridFluid: the "grid_fluid" fluid plugin — smoke on a uniform MAC grid that never leaks
-// through thin shells (§3, §4.1–4.3, Guendelman et al. 2005).
+// GridFluid: the "grid_fluid" fluid plugin — smoke or water on a uniform MAC grid that
+// never leaks through thin shells (§3, §4, Guendelman et al. 2005). A "water" block makes
+// it a water scene (Liquid: level set, fast marching, extrapolation, free surface); without
+// one it is smoke (density, temperature, buoyancy, vorticity confinement).
 //
 // One step, as the §6 coupling loop calls it:
 //   advect(t, Δt, shells^n, shells^{n+1})
 //     1. faces → nodes with visibility (§4.2; done at the end of the last projection)
 //     2. semi-Lagrangian advection of velocity, density, temperature on the nodes with the
 //        doubled wedge and the 8 secondary rays (§4.1); fast path outside the shell band
-//     3. sources, buoyancy, vorticity confinement on the nodes (§4.1)
-//     4. shells move n → n+1: swept nodes invalidated and refilled (§3)
+//        water: φ along the same rays (§4.4.1)
+//     3. smoke: sources, buoyancy, vorticity confinement on the nodes (§4.1);
+//        water: gravity on the nodes, emitters into φ
+//     4. shells move n → n+1: swept nodes invalidated and refilled (§3); water: φ
+//        refilled and reinitialised by fast marching against the shells at n+1 (§4.4.1)
 //     5. increments u* − u^n averaged back to the persistent faces with visibility (§4.2)
 //   coupling_forces(Δt, shells^{n+1})
 //     §5.1 eq. (5)–(6): faces cut by two-way shells take the shell's velocity and density
@@ -17,7 +22,9 @@
 //     skipped when no shell receives fluid forces
 //   project(Δt, shells^{n+1}, v_eff)
 //     Neumann faces across shells with the effective velocity, flood fill, compatibility
-//     per enclosed region, PCG/MIC(0) or CHOLMOD per region (§4.3); then faces → nodes.
+//     per enclosed region, PCG/MIC(0) or CHOLMOD per region (§4.3); water: air cells
+//     Dirichlet with the ghost fluid method, then velocities extrapolated across the
+//     surface (§4.4); then faces → nodes.
 
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -25,17 +32,18 @@
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
-#include "shellflow/grid_fluid/coupling_pressure.hpp"
-#include "shellflow/grid_fluid/domain_boundary.hpp"
-#include "shellflow/grid_fluid/face_node_transfer.hpp"
-#include "shellflow/grid_fluid/mac_grid.hpp"
-#include "shellflow/grid_fluid/node_fields.hpp"
-#include "shellflow/grid_fluid/pressure_projection.hpp"
-#include "shellflow/grid_fluid/semi_lagrangian_advector.hpp"
-#include "shellflow/grid_fluid/shell_geometry.hpp"
-#include "shellflow/grid_fluid/smoke_forces.hpp"
-#include "shellflow/grid_fluid/smoke_source.hpp"
-#include "shellflow/grid_fluid/swept_refill.hpp"
+#include "shellflow/grid_fluid/pressure/coupling_pressure.hpp"
+#include "shellflow/grid_fluid/mac/domain_boundary.hpp"
+#include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
+#include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
+#include "shellflow/grid_fluid/mac/semi_lagrangian_advector.hpp"
+#include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/smoke/smoke_forces.hpp"
+#include "shellflow/grid_fluid/smoke/smoke_source.hpp"
+#include "shellflow/grid_fluid/mac/swept_refill.hpp"
+#include "shellflow/grid_fluid/water/liquid.hpp"
 #include "shellflow/sdk/context.hpp"
 #include "shellflow/sdk/fluid_solver.hpp"
 #include "shellflow/sdk/schema.hpp"
@@ -72,6 +80,7 @@ class GridFluid final : public sdk::FluidSolver {
   std::vector<sdk::FieldView> fields() const override;
   std::optional<std::string> find_nonfinite() const override;
   void report(sdk::Metrics& out) const override;
+  std::vector<sdk::PlanEntry> plan() const override;
 
   // For tests and benchmarks.
   const grid::UniformGrid& grid() const { return m_mac.grid(); }
@@ -90,6 +99,9 @@ class GridFluid final : public sdk::FluidSolver {
   void refresh_nodes(sdk::ShellSet shells);
   /// Σ density Δx^3 over the nodes (smoke "mass").
   double smoke_mass() const;
+  /// The water of a water scene (null for smoke).
+  const Liquid* liquid() const { return m_liquid.get(); }
+  Liquid* liquid() { return m_liquid.get(); }
 
  private:
   /// Makes `cache` hold `shells` (rebuilds unless the positions match); true when rebuilt.
@@ -98,6 +110,10 @@ class GridFluid final : public sdk::FluidSolver {
   /// The §5.1 solver, made on first use (its arrays cost memory only in two-way scenes).
   CouplingPressure& coupling_pressure();
   void build_band(sdk::ShellSet shells_n, sdk::ShellSet shells_np1, double margin);
+  /// Step 3 of advect() for water (gravity on the nodes, emitters) and for smoke.
+  void advect_water_forces(double t, double dt);
+  void add_smoke_forces(double t, double dt, const ShellGeometry& geom_n,
+                        const geometry::ShellBand* band);
 
   sdk::Context m_context;
   DomainBoundary m_boundary;
@@ -122,6 +138,8 @@ class GridFluid final : public sdk::FluidSolver {
   SweptRefill m_refill;
   PressureProjection m_projection;
   std::unique_ptr<CouplingPressure> m_coupling;  ///< made on the first two-way step
+  std::unique_ptr<Liquid> m_liquid;              ///< water scenes only
+  double m_t_pressure = 0.0;                     ///< wall time of the last projection [s]
   geometry::ShellBand m_band;
   bool m_band_used = false;
   std::unique_ptr<ShellGeometry> m_geometry_n;

@@ -12,8 +12,8 @@
 #include <vector>
 
 #include "shellflow/geometry/gauss_jacobi_refill.hpp"
-#include "shellflow/grid_fluid/node_fields.hpp"
-#include "shellflow/grid_fluid/shell_geometry.hpp"
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
+#include "shellflow/grid_fluid/mac/shell_geometry.hpp"
 
 namespace shellflow::grid_fluid {
 

@@ -1,13 +1,14 @@
-#include "shellflow/grid_fluid/node_fields.hpp"
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
 
 #include <algorithm>
 #include <cmath>
 
 namespace shellflow::grid_fluid {
 
-NodeFields::NodeFields(const grid::UniformGrid& grid, double ambient_temperature) {
+NodeFields::NodeFields(const grid::UniformGrid& grid, double ambient_temperature, bool smoke) {
   const std::int64_t n = grid.size(grid::Location::Node);
   for (auto& v : m_velocity) v.assign(n, 0.0);
+  if (!smoke) return;
   m_density.assign(n, 0.0);
   m_temperature.assign(n, ambient_temperature);
 }

@@ -1,5 +1,7 @@
-#include "shellflow/grid_fluid/smoke_source.hpp"
+#include "shellflow/grid_fluid/smoke/smoke_source.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <limits>
 
 #include "shellflow/sdk/error.hpp"
@@ -8,44 +10,46 @@
 namespace shellflow::grid_fluid {
 
 namespace {
-sdk::Schema with_common_fields(sdk::Schema s) {
+sdk::Schema with_common_fields(sdk::Schema s, bool smoke) {
   using sdk::Schema;
-  return s
-      .field("velocity", Schema::vec3().optional().unit("m/s").doc(
-                             "velocity held on the faces of the emitter's cells in every "
-                             "pressure solve; with an open domain side the emitter adds "
-                             "that volume (fed from outside), in a closed box it draws it "
-                             "from around itself (left out: no velocity)"))
-      .field("density", Schema::number(1.0).min(0.0).unit("1").doc("smoke density set inside"))
-      .field("temperature", Schema::number().optional().min(0.0).unit("K").doc(
-                                "temperature set inside (any source with one turns the "
-                                "temperature field and its buoyancy on)"))
-      .field("start", Schema::number(0.0).unit("s").doc("time the emitter turns on"))
+  s.field("velocity", Schema::vec3().optional().unit("m/s").doc(
+                          "velocity held on the faces of the emitter's cells in every "
+                          "pressure solve; with an open domain side the emitter adds "
+                          "that volume (fed from outside), in a closed box it draws it "
+                          "from around itself (left out: no velocity)"));
+  if (smoke)
+    s.field("density", Schema::number(1.0).min(0.0).unit("1").doc("smoke density set inside"))
+        .field("temperature", Schema::number().optional().min(0.0).unit("K").doc(
+                                  "temperature set inside (any source with one turns the "
+                                  "temperature field and its buoyancy on)"));
+  return s.field("start", Schema::number(0.0).unit("s").doc("time the emitter turns on"))
       .field("end", Schema::number().optional().unit("s").doc(
                         "time the emitter turns off (left out: never)"));
 }
 }  // namespace
 
-sdk::Schema SmokeSource::schema() {
+sdk::Schema SmokeSource::schema(bool smoke) {
   using sdk::Schema;
-  return Schema::variant("shape", "a smoke emitter")
-      .option("sphere", with_common_fields(
-                            Schema::object("a ball")
-                                .field("center", Schema::vec3().unit("m").doc("centre"))
-                                .field("radius", Schema::number().min(0.0, false).unit("m").doc(
-                                                     "radius"))))
-      .option("box", with_common_fields(Schema::object("an axis-aligned box")
-                                            .field("min", Schema::vec3().unit("m").doc("corner"))
-                                            .field("max", Schema::vec3().unit("m").doc(
-                                                              "opposite corner"))))
+  return Schema::variant("shape", smoke ? "a smoke emitter" : "a water emitter")
+      .option("sphere",
+              with_common_fields(
+                  Schema::object("a ball")
+                      .field("center", Schema::vec3().unit("m").doc("centre"))
+                      .field("radius", Schema::number().min(0.0, false).unit("m").doc("radius")),
+                  smoke))
+      .option("box",
+              with_common_fields(Schema::object("an axis-aligned box")
+                                     .field("min", Schema::vec3().unit("m").doc("corner"))
+                                     .field("max", Schema::vec3().unit("m").doc("opposite corner")),
+                                 smoke))
       .option("cylinder",
               with_common_fields(
                   Schema::object("a solid cylinder between two points (a nozzle; PhysBAM's "
                                  "smoke jets)")
                       .field("from", Schema::vec3().unit("m").doc("centre of one end"))
                       .field("to", Schema::vec3().unit("m").doc("centre of the other end"))
-                      .field("radius",
-                             Schema::number().min(0.0, false).unit("m").doc("radius"))));
+                      .field("radius", Schema::number().min(0.0, false).unit("m").doc("radius")),
+                  smoke));
 }
 
 SmokeSource::SmokeSource(const nlohmann::json& spec, const std::string& json_path) {
@@ -80,8 +84,7 @@ SmokeSource::SmokeSource(const nlohmann::json& spec, const std::string& json_pat
   m_end = spec.contains("end") && !spec.at("end").is_null()
               ? spec.at("end").get<double>()
               : std::numeric_limits<double>::infinity();
-  if (!(m_end > m_start))
-    throw ConfigError(json_path + "/end", "must be later than \"start\"");
+  if (!(m_end > m_start)) throw ConfigError(json_path + "/end", "must be later than \"start\"");
 }
 
 bool SmokeSource::contains(const Eigen::Vector3d& p) const {
@@ -94,8 +97,23 @@ bool SmokeSource::contains(const Eigen::Vector3d& p) const {
   return (p.array() >= m_min.array()).all() && (p.array() <= m_max.array()).all();
 }
 
-grid::IndexBox SmokeSource::bounding_samples(const grid::UniformGrid& grid,
-                                             grid::Location loc) const {
+double SmokeSource::signed_distance(const Eigen::Vector3d& p) const {
+  if (m_shape == Shape::Sphere) return (p - m_center).norm() - m_radius;
+  if (m_shape == Shape::Cylinder) {  // a capped cylinder: radial and axial distances
+    const Eigen::Vector3d axis = m_max - m_min;
+    const double length = axis.norm();
+    const double along = (p - m_min).dot(axis) / length;
+    const double radial = (p - m_min - along / length * axis).norm();
+    const Eigen::Vector2d d(radial - m_radius, std::abs(along - 0.5 * length) - 0.5 * length);
+    return std::min(d.maxCoeff(), 0.0) + d.cwiseMax(0.0).norm();
+  }
+  const Eigen::Vector3d half = 0.5 * (m_max - m_min);
+  const Eigen::Vector3d q = (p - 0.5 * (m_min + m_max)).cwiseAbs() - half;
+  return std::min(q.maxCoeff(), 0.0) + q.cwiseMax(0.0).norm();
+}
+
+grid::IndexBox SmokeSource::bounding_samples(const grid::UniformGrid& grid, grid::Location loc,
+                                             double margin) const {
   Eigen::Vector3d lo = m_min;
   Eigen::Vector3d hi = m_max;
   if (m_shape == Shape::Sphere) {
@@ -105,7 +123,7 @@ grid::IndexBox SmokeSource::bounding_samples(const grid::UniformGrid& grid,
     lo = m_min.cwiseMin(m_max).array() - m_radius;
     hi = m_min.cwiseMax(m_max).array() + m_radius;
   }
-  return grid.samples_in_box(loc, lo, hi);
+  return grid.samples_in_box(loc, lo.array() - margin, hi.array() + margin);
 }
 
 void SmokeSource::append_faces(double t, const grid::UniformGrid& grid, int axis,

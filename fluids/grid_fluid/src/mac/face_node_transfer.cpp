@@ -1,4 +1,4 @@
-#include "shellflow/grid_fluid/face_node_transfer.hpp"
+#include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
 
 #include <algorithm>
 #include <limits>

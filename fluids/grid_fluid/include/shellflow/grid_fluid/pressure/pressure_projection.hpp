@@ -24,16 +24,25 @@
 //      region raised by 1, exact for a consistent right-hand side), the reference.
 // Unknowns are the scaled pressures p' = p Δt / Δx, so the system is the graph Laplacian
 // of the fluid cells, A p' = −Σ_faces u*·n (per cell), and u_f = u*_f − (p'_+ − p'_−).
+//
+// With water (a FreeSurface) only the cells whose centre has φ <= 0 are unknowns; air
+// cells are Dirichlet p = 0 (§4.3). A face between a liquid cell i and an air cell j sees
+// the surface at the fraction θ = φ_i / (φ_i − φ_j) of the way (ghost fluid, Gibou et al.
+// 2002; Enright et al. 2003: second order), or at j's centre (θ = 1, first order): it
+// adds 1/θ to i's diagonal (GridLaplacian::dirichlet) and its velocity is corrected by
+// p'_i / θ. Faces between two air cells are left alone (the velocity extrapolation of
+// §4.4 fills them); a liquid region with no face to air is enclosed as above.
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
-#include "shellflow/grid_fluid/domain_boundary.hpp"
-#include "shellflow/grid_fluid/fluid_regions.hpp"
-#include "shellflow/grid_fluid/mac_grid.hpp"
-#include "shellflow/grid_fluid/shell_geometry.hpp"
+#include "shellflow/grid_fluid/mac/domain_boundary.hpp"
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
+#include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
 #include "shellflow/linear/constant_null_space.hpp"
 #include "shellflow/linear/grid_laplacian.hpp"
 #include "shellflow/linear/multigrid_preconditioner.hpp"
@@ -53,6 +62,15 @@ struct ProjectionSettings {
   int max_iterations = 2000;
 };
 
+/// The liquid of a water scene as the projection sees it.
+struct FreeSurface {
+  std::span<const double> cell_phi;  ///< φ at each cell centre (φ <= 0: liquid)
+  bool ghost_fluid = true;           ///< second-order θ; false: first order (θ = 1)
+  /// Smallest θ: a surface closer to the liquid cell's centre counts as this far (keeps
+  /// 1/θ, the largest diagonal entry, at 1e3; PhysBAM clamps likewise).
+  static constexpr double kMinTheta = 1e-3;
+};
+
 struct ProjectionStats {
   int regions = 0;                 ///< connected fluid regions
   int enclosed_regions = 0;        ///< regions without a Dirichlet face (compatibility corrected)
@@ -64,6 +82,7 @@ struct ProjectionStats {
   double max_compatibility_flux = 0.0;   ///< largest |net boundary flux| corrected [m^3/s / dx^2]
   /// max over cells |Σ u·n| / max|u| after projection (= |∇·u| Δx / max|u|).
   double max_relative_divergence = 0.0;
+  std::int64_t liquid_cells = 0;  ///< pressure unknowns of a water scene (0 for smoke)
 };
 
 class PressureProjection {
@@ -73,9 +92,14 @@ class PressureProjection {
   const ProjectionSettings& settings() const { return m_settings; }
 
   /// Projects `mac` in place. `band` (may be null without shells) lists the faces where
-  /// rays are cast. `mac.pressure()` receives p [Pa/(kg/m^3)].
+  /// rays are cast. `mac.pressure()` receives p [Pa/(kg/m^3)]. `surface`: the liquid of
+  /// a water scene (null: smoke, every cell is fluid).
   ProjectionStats project(MacGrid& mac, double dt, const DomainBoundary& boundary,
-                          const ShellGeometry& shells, const geometry::ShellBand* band);
+                          const ShellGeometry& shells, const geometry::ShellBand* band,
+                          const FreeSurface* surface = nullptr);
+
+  /// Per cell: 1 where the last projection had a pressure unknown (liquid or smoke).
+  bool fluid_cell(std::int64_t cell) const { return m_regions.region[cell] >= 0; }
 
   /// Neumann flags of the last projection for face family `axis`.
   const std::vector<std::uint8_t>& neumann(int axis) const { return m_neumann[axis]; }
@@ -99,6 +123,9 @@ class PressureProjection {
   void solve(const MacGrid& mac, double scale, ProjectionStats& stats);
 
   void apply_pressure(MacGrid& mac) const;
+  /// 1/θ of the face between liquid cell `liquid` and air cell `air` (FreeSurface).
+  double inverse_theta(std::int64_t liquid, std::int64_t air) const;
+  bool air(std::int64_t cell) const { return m_surface != nullptr && m_regions.region[cell] < 0; }
   /// flux[c] = Σ over the six faces of cell c of u·n (= ∇·u Δx) [m/s].
   void cell_fluxes(const MacGrid& mac, Eigen::VectorXd& flux) const;
   /// max over cells |Σ u·n|.
@@ -122,7 +149,9 @@ class PressureProjection {
   int m_enclosed_count = 0;
   std::vector<int> m_first_enclosed_cell;  ///< per enclosed group (CHOLMOD's pinned cell)
   linear::MultigridPreconditioner m_multigrid;
-  linear::SparseMatrix m_matrix;  ///< CSR form for MIC(0) and CHOLMOD
+  linear::SparseMatrix m_matrix;           ///< CSR form for MIC(0) and CHOLMOD
+  const FreeSurface* m_surface = nullptr;  ///< during project() of a water scene
+  std::vector<std::uint8_t> m_liquid;      ///< per cell, water scenes only
 };
 
 }  // namespace shellflow::grid_fluid

@@ -1,4 +1,4 @@
-#include "shellflow/grid_fluid/shell_geometry.hpp"
+#include "shellflow/grid_fluid/mac/shell_geometry.hpp"
 
 #include <limits>
 

@@ -1,4 +1,4 @@
-#include "shellflow/grid_fluid/mac_grid.hpp"
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
 
 #include <algorithm>
 #include <cmath>

@@ -31,10 +31,10 @@
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
-#include "shellflow/grid_fluid/domain_boundary.hpp"
-#include "shellflow/grid_fluid/fluid_regions.hpp"
-#include "shellflow/grid_fluid/mac_grid.hpp"
-#include "shellflow/grid_fluid/shell_geometry.hpp"
+#include "shellflow/grid_fluid/mac/domain_boundary.hpp"
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
+#include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
 #include "shellflow/linear/grid_laplacian.hpp"
 #include "shellflow/linear/multigrid_preconditioner.hpp"
 #include "shellflow/sdk/shell_surface.hpp"
@@ -55,7 +55,7 @@ struct CouplingStats {
   int iterations = 0;
   double relative_residual = 0.0;
   bool converged = true;
-  double max_pressure_jump = 0.0;       ///< max |p₊ − p₋| over the shell faces [Pa]
+  double max_pressure_jump = 0.0;           ///< max |p₊ − p₋| over the shell faces [Pa]
   std::int64_t triangles_without_jump = 0;  ///< triangles with no jump data near them
   Eigen::Vector3d total_force = Eigen::Vector3d::Zero();  ///< Σ over all triangles [N]
 };
@@ -86,9 +86,8 @@ class CouplingPressure {
     double velocity;
     double beta;
   };
-  void classify_faces(const DomainBoundary& boundary,
-                      const ShellGeometry& shells, const geometry::ShellBand& band,
-                      CouplingStats& stats);
+  void classify_faces(const DomainBoundary& boundary, const ShellGeometry& shells,
+                      const geometry::ShellBand& band, CouplingStats& stats);
   Eigen::VectorXd right_hand_side(const MacGrid& mac) const;
   void solve(Eigen::VectorXd& b, const DomainBoundary& boundary, CouplingStats& stats);
   void jumps_to_nodes(double to_pressure, CouplingStats& stats);

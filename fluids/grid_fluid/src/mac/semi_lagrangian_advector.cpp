@@ -1,4 +1,4 @@
-#include "shellflow/grid_fluid/semi_lagrangian_advector.hpp"
+#include "shellflow/grid_fluid/mac/semi_lagrangian_advector.hpp"
 
 namespace shellflow::grid_fluid {
 

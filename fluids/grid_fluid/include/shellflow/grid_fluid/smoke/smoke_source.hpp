@@ -15,8 +15,8 @@
 #include <optional>
 #include <string>
 
-#include "shellflow/grid_fluid/domain_boundary.hpp"
-#include "shellflow/grid_fluid/node_fields.hpp"
+#include "shellflow/grid_fluid/mac/domain_boundary.hpp"
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/sdk/schema.hpp"
 
 namespace shellflow::grid_fluid {
@@ -27,11 +27,18 @@ class SmokeSource {
 
   /// From one validated entry of "sources" (schema()); ConfigError at `json_path`/...
   SmokeSource(const nlohmann::json& spec, const std::string& json_path);
-  static sdk::Schema schema();
+  /// The "sources" entry; with `smoke` false, the same emitter without density and
+  /// temperature (a water emitter, WaterSource).
+  static sdk::Schema schema(bool smoke = true);
 
   /// Is the emitter on at time t (start <= t < end)?
   bool active(double t) const { return t >= m_start && t < m_end; }
   bool contains(const Eigen::Vector3d& p) const;
+  /// Signed distance [m] from p to the emitter's surface (negative inside).
+  double signed_distance(const Eigen::Vector3d& p) const;
+  /// The samples at `loc` in the emitter's bounding box grown by `margin` [m].
+  grid::IndexBox bounding_samples(const grid::UniformGrid& grid, grid::Location loc,
+                                  double margin = 0.0) const;
   /// Sets the emitter's values on every node inside it (no-op when off at time t).
   /// Returns the number of nodes set.
   std::int64_t apply(double t, const grid::UniformGrid& grid, NodeFields& fields,
@@ -60,9 +67,6 @@ class SmokeSource {
   std::optional<double> m_temperature;
   double m_start = 0.0;
   double m_end = 0.0;
-
-  /// The samples at `loc` in the emitter's bounding box.
-  grid::IndexBox bounding_samples(const grid::UniformGrid& grid, grid::Location loc) const;
 };
 
 }  // namespace shellflow::grid_fluid

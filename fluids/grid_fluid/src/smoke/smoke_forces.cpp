@@ -1,4 +1,4 @@
-#include "shellflow/grid_fluid/smoke_forces.hpp"
+#include "shellflow/grid_fluid/smoke/smoke_forces.hpp"
 
 #include <algorithm>
 #include <cmath>

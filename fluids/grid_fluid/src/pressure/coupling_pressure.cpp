@@ -1,4 +1,4 @@
-#include "shellflow/grid_fluid/coupling_pressure.hpp"
+#include "shellflow/grid_fluid/pressure/coupling_pressure.hpp"
 
 #include <omp.h>
 
@@ -23,8 +23,7 @@ CouplingPressure::CouplingPressure(const grid::UniformGrid& grid, CouplingSettin
   m_laplacian = linear::GridLaplacian(m_grid.cells());
 }
 
-void CouplingPressure::classify_faces(const DomainBoundary& boundary,
-                                      const ShellGeometry& shells,
+void CouplingPressure::classify_faces(const DomainBoundary& boundary, const ShellGeometry& shells,
                                       const geometry::ShellBand& band, CouplingStats& stats) {
   m_shell_faces.clear();
   const double dx = m_grid.dx();
@@ -65,10 +64,12 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary,
       found[omp_get_thread_num()].push_back({a, f, velocity, beta});
     }
     if (bad_density)
-      throw Error("grid_fluid coupling: a two-way shell has a triangle of zero or negative "
-                  "surface density; give every two-way shell a positive surface density");
+      throw Error(
+          "grid_fluid coupling: a two-way shell has a triangle of zero or negative "
+          "surface density; give every two-way shell a positive surface density");
     const size_t first = m_shell_faces.size();
-    for (const auto& part : found) m_shell_faces.insert(m_shell_faces.end(), part.begin(), part.end());
+    for (const auto& part : found)
+      m_shell_faces.insert(m_shell_faces.end(), part.begin(), part.end());
     std::sort(m_shell_faces.begin() + first, m_shell_faces.end(),
               [](const ShellFace& x, const ShellFace& y) { return x.face < y.face; });
     for (size_t k = first; k < m_shell_faces.size(); ++k) {
@@ -161,9 +162,9 @@ void CouplingPressure::jumps_to_nodes(double to_pressure, CouplingStats& stats) 
     const Eigen::Vector3i ijk = m_grid.coordinates(face_location(a), sf.face);
     Eigen::Vector3i lo = ijk;
     lo[a] -= 1;
-    const double jump = (m_scaled[m_grid.index(Location::Cell, ijk)] -
-                         m_scaled[m_grid.index(Location::Cell, lo)]) *
-                        to_pressure;
+    const double jump =
+        (m_scaled[m_grid.index(Location::Cell, ijk)] - m_scaled[m_grid.index(Location::Cell, lo)]) *
+        to_pressure;
     stats.max_pressure_jump = std::max(stats.max_pressure_jump, std::abs(jump));
     const int b = (a + 1) % 3;
     const int c = (a + 2) % 3;
@@ -202,10 +203,10 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
     m_stencils.resize(first + count);
 #pragma omp parallel for schedule(static)
     for (int tri = 0; tri < count; ++tri) {
-      const Eigen::Vector3d x = (s.positions.row(T(tri, 0)) + s.positions.row(T(tri, 1)) +
-                                 s.positions.row(T(tri, 2)))
-                                    .transpose() /
-                                3.0;
+      const Eigen::Vector3d x =
+          (s.positions.row(T(tri, 0)) + s.positions.row(T(tri, 1)) + s.positions.row(T(tri, 2)))
+              .transpose() /
+          3.0;
       const Eigen::Vector3d g = (x - m_grid.origin()) / dx;
       TriangleStencil& st = m_stencils[first + tri];
       for (int a = 0; a < 3; ++a) {
@@ -228,13 +229,13 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
   for (int a = 0; a < 3; ++a) {
     std::vector<std::int64_t> isolated;
     // The jump is a property of the sheet, the same seen from either side: no rays.
-    refill.run(std::span<double>(m_node_jump[a]), std::span<std::uint8_t>(m_node_valid[a]),
-               std::span<const std::int64_t>(candidates),
-               [](std::int64_t, std::int64_t) { return true; },
-               [&](std::int64_t from, std::int64_t to) {
-                 if (from == to) isolated.push_back(from);  // called serially for these
-                 return 0.0;
-               });
+    refill.run(
+        std::span<double>(m_node_jump[a]), std::span<std::uint8_t>(m_node_valid[a]),
+        std::span<const std::int64_t>(candidates), [](std::int64_t, std::int64_t) { return true; },
+        [&](std::int64_t from, std::int64_t to) {
+          if (from == to) isolated.push_back(from);  // called serially for these
+          return 0.0;
+        });
     for (const std::int64_t i : isolated) m_node_valid[a][i] = 2;  // no data: ignored below
   }
   m_touched.insert(m_touched.end(), candidates.begin(), candidates.end());
@@ -259,8 +260,8 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
       const Eigen::Vector3d normal = area / a_norm;
       const Eigen::Vector3i& lower = m_stencils[offset + tri].lower;
       const Eigen::Vector3d& t = m_stencils[offset + tri].t;
-      double along = 0.0;  // Σ n_a D_a over axes with data
-      double weight = 0.0; // Σ |n_a| over the same axes
+      double along = 0.0;   // Σ n_a D_a over axes with data
+      double weight = 0.0;  // Σ |n_a| over the same axes
       for (int a = 0; a < 3; ++a) {
         double sum = 0.0, w_sum = 0.0;
         for (int corner = 0; corner < 8; ++corner) {
@@ -293,8 +294,7 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
 }
 
 CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
-                                        const DomainBoundary& boundary,
-                                        const ShellGeometry& shells,
+                                        const DomainBoundary& boundary, const ShellGeometry& shells,
                                         const geometry::ShellBand& band, sdk::ShellSet set,
                                         std::span<sdk::TriangleVectors> forces) {
   CouplingStats stats;

@@ -1,7 +1,7 @@
-#include "shellflow/grid_fluid/swept_refill.hpp"
+#include "shellflow/grid_fluid/mac/swept_refill.hpp"
 
 #include "shellflow/geometry/swept_point_invalidator.hpp"
-#include "shellflow/grid_fluid/mac_grid.hpp"
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
 
 namespace shellflow::grid_fluid {
 

@@ -1,4 +1,4 @@
-#include "shellflow/grid_fluid/domain_boundary.hpp"
+#include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"

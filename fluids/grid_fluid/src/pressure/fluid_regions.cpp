@@ -1,4 +1,4 @@
-#include "shellflow/grid_fluid/fluid_regions.hpp"
+#include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -17,14 +17,15 @@ linear::ConstantNullSpace FluidRegions::null_space() const {
     if (enclosed[r] != 0) group_of_region[r] = groups++;
   if (groups == 0) return {};
   std::vector<int> group(region.size());
-  for (size_t c = 0; c < group.size(); ++c) group[c] = group_of_region[region[c]];
+  for (size_t c = 0; c < group.size(); ++c)
+    group[c] = region[c] < 0 ? -1 : group_of_region[region[c]];
   return linear::ConstantNullSpace(std::move(group), groups);
 }
 
 void label_fluid_regions(const grid::UniformGrid& grid,
                          const std::array<std::vector<std::uint8_t>, 3>& closed,
-                         const DomainBoundary& boundary, FluidRegions& out,
-                         bool interior_closed) {
+                         const DomainBoundary& boundary, FluidRegions& out, bool interior_closed,
+                         std::span<const std::uint8_t> liquid) {
   const std::int64_t cells = grid.size(Location::Cell);
   out.region.resize(cells);
   out.enclosed.clear();
@@ -36,7 +37,8 @@ void label_fluid_regions(const grid::UniformGrid& grid,
                                  boundary.side(1, 1).type == BoundaryType::Open},
                                 {boundary.side(2, 0).type == BoundaryType::Open,
                                  boundary.side(2, 1).type == BoundaryType::Open}};
-  if (!interior_closed) {
+  const bool water = !liquid.empty();
+  if (!interior_closed && !water) {
     // Only domain faces may be closed: every cell reaches every other (the fast path
     // away from shells); the region is open when one side of the domain is.
     bool open = false;
@@ -47,6 +49,13 @@ void label_fluid_regions(const grid::UniformGrid& grid,
     counts.push_back(cells);
   } else {
     std::fill(out.region.begin(), out.region.end(), -1);
+    // Air cells are never visited: marked so, with `kAir` until the end.
+    constexpr int kAir = -2;
+    if (water) {
+#pragma omp parallel for schedule(static)
+      for (std::int64_t c = 0; c < cells; ++c)
+        if (liquid[c] == 0) out.region[c] = kAir;
+    }
     const Eigen::Vector3i n = grid.cells();
     const std::int64_t nx = n.x(), ny = n.y(), plane = nx * ny;
     const std::uint8_t* closed_x = closed[0].data();
@@ -54,7 +63,7 @@ void label_fluid_regions(const grid::UniformGrid& grid,
     const std::uint8_t* closed_z = closed[2].data();
     std::vector<std::int64_t> stack;
     for (std::int64_t seed = 0; seed < cells; ++seed) {
-      if (out.region[seed] >= 0) continue;
+      if (out.region[seed] != -1) continue;
       const int r = out.count();
       bool open = false;
       bool any_face = false;  // a non-closed face: the cell has a pressure unknown
@@ -66,6 +75,8 @@ void label_fluid_regions(const grid::UniformGrid& grid,
         any_face = true;
         if (!inside) {
           open = open || open_domain_face;
+        } else if (out.region[nb] == kAir) {
+          open = true;  // a face to an air cell: Dirichlet p = 0 (§4.3)
         } else if (out.region[nb] < 0) {
           out.region[nb] = r;
           stack.push_back(nb);
@@ -90,19 +101,25 @@ void label_fluid_regions(const grid::UniformGrid& grid,
       out.sealed.push_back(any_face ? 0 : 1);
       counts.push_back(size);
     }
+    if (water) {
+#pragma omp parallel for schedule(static)
+      for (std::int64_t c = 0; c < cells; ++c)
+        if (out.region[c] == kAir) out.region[c] = -1;
+    }
   }
   // Cells of each region, in cell order (CSR).
   const int regions = out.count();
   out.start.assign(regions + 1, 0);
   for (int r = 0; r < regions; ++r) out.start[r + 1] = out.start[r] + counts[r];
-  out.cells.resize(cells);
-  if (regions == 1) {
+  out.cells.resize(out.start[regions]);
+  if (regions == 1 && out.start[1] == cells) {
 #pragma omp parallel for schedule(static)
     for (std::int64_t cell = 0; cell < cells; ++cell) out.cells[cell] = cell;
     return;
   }
   std::vector<std::int64_t> fill(out.start.begin(), out.start.end() - 1);
-  for (std::int64_t cell = 0; cell < cells; ++cell) out.cells[fill[out.region[cell]]++] = cell;
+  for (std::int64_t cell = 0; cell < cells; ++cell)
+    if (out.region[cell] >= 0) out.cells[fill[out.region[cell]]++] = cell;
 }
 
 }  // namespace shellflow::grid_fluid

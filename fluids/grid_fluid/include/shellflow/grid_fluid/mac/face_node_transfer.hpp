@@ -20,10 +20,10 @@
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
-#include "shellflow/grid_fluid/domain_boundary.hpp"
-#include "shellflow/grid_fluid/mac_grid.hpp"
-#include "shellflow/grid_fluid/node_fields.hpp"
-#include "shellflow/grid_fluid/shell_geometry.hpp"
+#include "shellflow/grid_fluid/mac/domain_boundary.hpp"
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
+#include "shellflow/grid_fluid/mac/shell_geometry.hpp"
 
 namespace shellflow::grid_fluid {
 

@@ -18,10 +18,13 @@ using NodeSample = Eigen::Matrix<double, 5, 1>;
 class NodeFields {
  public:
   NodeFields() = default;
-  /// Zero velocity and density, temperature `ambient_temperature` [K].
-  NodeFields(const grid::UniformGrid& grid, double ambient_temperature);
+  /// Zero velocity and density, temperature `ambient_temperature` [K]. Without `smoke`
+  /// (water) only the velocity is stored; samples carry zero density and temperature.
+  NodeFields(const grid::UniformGrid& grid, double ambient_temperature, bool smoke = true);
 
-  std::int64_t size() const { return static_cast<std::int64_t>(m_density.size()); }
+  bool has_smoke() const { return !m_density.empty(); }
+
+  std::int64_t size() const { return static_cast<std::int64_t>(m_velocity[0].size()); }
   std::vector<double>& velocity(int axis) { return m_velocity[axis]; }
   const std::vector<double>& velocity(int axis) const { return m_velocity[axis]; }
   std::vector<double>& density() { return m_density; }
@@ -31,12 +34,17 @@ class NodeFields {
 
   NodeSample sample(std::int64_t node) const {
     NodeSample s;
-    s << m_velocity[0][node], m_velocity[1][node], m_velocity[2][node], m_density[node],
-        m_temperature[node];
+    if (has_smoke()) {
+      s << m_velocity[0][node], m_velocity[1][node], m_velocity[2][node], m_density[node],
+          m_temperature[node];
+    } else {
+      s << m_velocity[0][node], m_velocity[1][node], m_velocity[2][node], 0.0, 0.0;
+    }
     return s;
   }
   void set(std::int64_t node, const NodeSample& s) {
     for (int a = 0; a < 3; ++a) m_velocity[a][node] = s[a];
+    if (!has_smoke()) return;
     m_density[node] = s[3];
     m_temperature[node] = s[4];
   }

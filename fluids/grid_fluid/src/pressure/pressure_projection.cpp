@@ -1,9 +1,9 @@
-#include "shellflow/grid_fluid/pressure_projection.hpp"
+#include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
 
 #include <algorithm>
 #include <cmath>
 
-#include "shellflow/grid_fluid/face_node_transfer.hpp"
+#include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
 #include "shellflow/linear/cholmod_solver.hpp"
 #include "shellflow/linear/pcg_mic0_solver.hpp"
 #include "shellflow/linear/preconditioned_cg.hpp"
@@ -78,7 +78,8 @@ void PressureProjection::correct_compatibility(MacGrid& mac, ProjectionStats& st
   for (int r = 0; r < regions; ++r)
     if (m_regions.enclosed[r] != 0 && m_regions.sealed[r] == 0) order.push_back(r);
   std::stable_sort(order.begin(), order.end(), [&](int x, int y) {
-    return m_regions.start[x + 1] - m_regions.start[x] < m_regions.start[y + 1] - m_regions.start[y];
+    return m_regions.start[x + 1] - m_regions.start[x] <
+           m_regions.start[y + 1] - m_regions.start[y];
   });
   for (const int r : order) {
     double net = 0.0;
@@ -94,7 +95,7 @@ void PressureProjection::correct_compatibility(MacGrid& mac, ProjectionStats& st
           const std::int64_t nb = neighbour(c, a, side);
           if (nb >= 0 && m_regions.region[nb] == r) continue;  // inside the region: cancels
           const BoundaryFace bf{a, f, side == 1 ? 1.0 : -1.0};
-          if (nb >= 0 && corrected[m_regions.region[nb]] != 0) {
+          if (nb >= 0 && m_regions.region[nb] >= 0 && corrected[m_regions.region[nb]] != 0) {
             shared.push_back(bf);
           } else {
             faces.push_back(bf);
@@ -111,6 +112,14 @@ void PressureProjection::correct_compatibility(MacGrid& mac, ProjectionStats& st
   }
 }
 
+double PressureProjection::inverse_theta(std::int64_t liquid, std::int64_t air) const {
+  if (!m_surface->ghost_fluid) return 1.0;
+  const double phi_l = m_surface->cell_phi[liquid];
+  const double phi_a = m_surface->cell_phi[air];
+  const double theta = phi_l / (phi_l - phi_a);  // in [0, 1]: φ_l <= 0 < φ_a
+  return 1.0 / std::clamp(theta, FreeSurface::kMinTheta, 1.0);
+}
+
 void PressureProjection::build_operator() {
   // Face weights: 1 where the face is open (interior or Dirichlet domain face), 0 where
   // it is Neumann (shell, wall, inflow) — the same face layout as the MAC grid.
@@ -120,6 +129,45 @@ void PressureProjection::build_operator() {
     const std::int64_t count = static_cast<std::int64_t>(w.size());
 #pragma omp parallel for schedule(static)
     for (std::int64_t f = 0; f < count; ++f) w[f] = flags[f] != 0 ? 0.0 : 1.0;
+  }
+  auto& dirichlet = m_laplacian.dirichlet();
+  if (m_surface == nullptr) {
+    dirichlet.clear();
+  } else {
+    // §4.3 air cells: a liquid cell's open face to an air cell becomes its Dirichlet
+    // conductance 1/θ (ghost fluid); then every face touching air leaves the operator.
+    const Eigen::Vector3i n = m_grid.cells();
+    dirichlet.assign(m_grid.size(Location::Cell), 0.0);
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int k = 0; k < n.z(); ++k)
+      for (int j = 0; j < n.y(); ++j)
+        for (int i = 0; i < n.x(); ++i) {
+          const Eigen::Vector3i c(i, j, k);
+          const std::int64_t cell = m_grid.index(Location::Cell, c);
+          if (air(cell)) continue;
+          for (int a = 0; a < 3; ++a)
+            for (int side = 0; side < 2; ++side) {
+              const std::int64_t nb = neighbour(c, a, side);
+              if (nb < 0 || !air(nb) || m_neumann[a][face_of(c, a, side)] != 0) continue;
+              dirichlet[cell] += inverse_theta(cell, nb);
+            }
+        }
+    for (int a = 0; a < 3; ++a) {
+      auto& w = m_laplacian.weights(a);
+      const Eigen::Vector3i faces = m_grid.counts(face_location(a));
+#pragma omp parallel for collapse(2) schedule(static)
+      for (int k = 0; k < faces.z(); ++k)
+        for (int j = 0; j < faces.y(); ++j)
+          for (int i = 0; i < faces.x(); ++i) {
+            Eigen::Vector3i c(i, j, k);  // the face's + cell
+            const std::int64_t f = m_grid.index(face_location(a), c);
+            if (w[f] == 0.0) continue;
+            const bool plus_air = c[a] < n[a] && air(m_grid.index(Location::Cell, c));
+            c[a] -= 1;
+            const bool minus_air = c[a] >= 0 && air(m_grid.index(Location::Cell, c));
+            if (plus_air || minus_air) w[f] = 0.0;
+          }
+    }
   }
   // Enclosed regions, numbered 0.. in region order: their constants are the null space.
   m_enclosed_count = m_regions.enclosed_count();
@@ -134,9 +182,13 @@ void PressureProjection::build_operator() {
     m_multigrid.compute(m_laplacian);
   } else {
     m_matrix = m_laplacian.to_sparse();  // rows filled directly, no triplets
-    if (m_settings.solver == PressureSolver::Cholmod)
+    if (m_settings.solver == PressureSolver::Cholmod) {
       for (const int c : m_first_enclosed_cell)
         m_matrix.coeffRef(c, c) += 1.0;  // fixes the constant; exact for a consistent b
+      if (m_surface != nullptr)          // air cells: an identity row, p' = 0 for b = 0
+        for (int c = 0; c < m_laplacian.size(); ++c)
+          if (air(c)) m_matrix.coeffRef(c, c) += 1.0;
+    }
   }
 }
 
@@ -146,7 +198,10 @@ void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats
   Eigen::Map<Eigen::VectorXd> scaled(m_scaled.data(), n);
   cell_fluxes(mac, b);
   b = -b;
-  m_null_space.project(b);  // consistent to round-off after the correction
+  if (m_surface != nullptr)
+    for (int c = 0; c < n; ++c)
+      if (air(c)) b[c] = 0.0;  // no unknown in the air
+  m_null_space.project(b);     // consistent to round-off after the correction
   if (b.lpNorm<Eigen::Infinity>() == 0.0) {
     scaled.setZero();
     return;
@@ -180,12 +235,27 @@ void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats
 
 ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const DomainBoundary& boundary,
                                             const ShellGeometry& shells,
-                                            const geometry::ShellBand* band) {
+                                            const geometry::ShellBand* band,
+                                            const FreeSurface* surface) {
   ProjectionStats stats;
+  m_surface = surface;
+  if (surface != nullptr) {
+    const std::int64_t cells = m_grid.size(Location::Cell);
+    m_liquid.resize(cells);
+    std::int64_t liquid = 0;
+#pragma omp parallel for schedule(static) reduction(+ : liquid)
+    for (std::int64_t c = 0; c < cells; ++c) {
+      m_liquid[c] = surface->cell_phi[c] <= 0.0 ? 1 : 0;
+      liquid += m_liquid[c];
+    }
+    stats.liquid_cells = liquid;
+  }
   apply_boundary_velocities(mac, boundary);
   mark_neumann(mac, boundary, shells, band, stats);
   label_fluid_regions(m_grid, m_neumann, boundary, m_regions,
-                      stats.shell_neumann_faces > 0 || boundary.has_source_faces());
+                      stats.shell_neumann_faces > 0 || boundary.has_source_faces(),
+                      surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
+                                         : std::span<const std::uint8_t>());
   const int regions = static_cast<int>(m_regions.enclosed.size());
   stats.regions = regions;
   for (const auto e : m_regions.enclosed) stats.enclosed_regions += e;
@@ -214,6 +284,7 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
   const double to_pressure = m_grid.dx() / dt;
   auto& p = mac.pressure();
   for (size_t i = 0; i < p.size(); ++i) p[i] = m_scaled[i] * to_pressure;
+  m_surface = nullptr;
   return stats;
 }
 
@@ -257,8 +328,24 @@ void PressureProjection::apply_pressure(MacGrid& mac) const {
           const int along = a == 0 ? i : (a == 1 ? j : k);
           // The cell on the face's + side has the face's coordinates.
           const std::int64_t hi = i + std::int64_t(cells.x()) * (j + std::int64_t(cells.y()) * k);
+          const std::int64_t lo = hi - stride[a];
+          if (m_surface != nullptr) {
+            // §4.3 with air: liquid–air faces by the ghost fluid rule, air–air untouched.
+            const bool plus_air = along == cells[a] || air(hi);
+            const bool minus_air = along == 0 || air(lo);
+            // The domain side of a boundary face counts as air (p = 0 beyond open sides).
+            if (plus_air && minus_air) {
+              continue;
+            } else if (plus_air) {
+              u[f] -= -p[lo] * (along == cells[a] ? 1.0 : inverse_theta(lo, hi));
+              continue;
+            } else if (minus_air) {
+              u[f] -= p[hi] * (along == 0 ? 1.0 : inverse_theta(hi, lo));
+              continue;
+            }
+          }
           const double p_plus = along < cells[a] ? p[hi] : 0.0;
-          const double p_minus = along > 0 ? p[hi - stride[a]] : 0.0;
+          const double p_minus = along > 0 ? p[lo] : 0.0;
           u[f] -= p_plus - p_minus;
         }
       }
@@ -270,6 +357,9 @@ double PressureProjection::max_cell_divergence(const MacGrid& mac) const {
   cell_fluxes(mac, flux);
   for (int r = 0; r < m_regions.count(); ++r)  // a source sets these cells' divergence
     if (m_regions.sealed[r] != 0) flux[m_regions.cells[m_regions.start[r]]] = 0.0;
+  if (m_surface != nullptr)
+    for (Eigen::Index c = 0; c < flux.size(); ++c)
+      if (air(c)) flux[c] = 0.0;  // air is not constrained
   return flux.lpNorm<Eigen::Infinity>();
 }
 

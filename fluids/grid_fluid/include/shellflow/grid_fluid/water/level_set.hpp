@@ -1,0 +1,42 @@
+#pragma once
+// LevelSet: the water's level set on the grid nodes (§4.4.1, Guendelman et al. 2005):
+// φ <= 0 in the water, φ > 0 in the air, kept a signed distance [m] within `band` of the
+// surface by fast marching and clamped to ±band beyond it (nodes that far are never
+// read: the surface, the pressure's liquid cells and the extrapolated velocities all lie
+// within it). One flat array in UniformGrid::index(Location::Node, ...) order.
+
+#include <vector>
+
+#include "shellflow/grid/uniform_grid.hpp"
+
+namespace shellflow::grid_fluid {
+
+class LevelSet {
+ public:
+  LevelSet() = default;
+  /// All air (φ = band) on the nodes of `grid`; `band` [m] > 0.
+  LevelSet(const grid::UniformGrid& grid, double band);
+
+  const grid::UniformGrid& grid() const { return m_grid; }
+  double band() const { return m_band; }
+  std::vector<double>& phi() { return m_phi; }
+  const std::vector<double>& phi() const { return m_phi; }
+
+  /// Trilinear φ at world point p (clamped into the grid).
+  double sample(const Eigen::Vector3d& p) const;
+  /// φ at every cell centre (the mean of its 8 nodes: trilinear at the centre).
+  void cell_values(std::vector<double>& out) const;
+  /// Water volume [m^3]: Σ over nodes of H(−φ) Δx^3 with the smeared Heaviside of width
+  /// 1.5Δx (Osher and Fedkiw 2002, eq. 7.1), nodes on the domain's faces weighted by 1/2
+  /// per face (trapezoidal rule), so a flat pool of depth h gives h × area to round-off.
+  double volume() const;
+  /// Nodes with φ <= 0.
+  std::int64_t liquid_nodes() const;
+
+ private:
+  grid::UniformGrid m_grid;
+  double m_band = 0.0;
+  std::vector<double> m_phi;
+};
+
+}  // namespace shellflow::grid_fluid

@@ -1,0 +1,44 @@
+#pragma once
+// LevelSetAdvector: semi-Lagrangian advection of the water's level set on the nodes
+// (§4.4.1, Guendelman et al. 2005; first order, as Enright, Losasso, Fedkiw 2005 showed
+// suffices under the particle level set). Each node traces the same ray as its velocity
+// (§4.1: clipped against wedges of doubled thickness 2ε, so the base point is visible
+// from the node); of the 8 nodes of the base point's cell, one that is not visible from
+// the base point is replaced by the mean of its visible one-ring neighbours in that cell
+// (the 3 nodes one edge away), else of its visible 2-ring neighbours (3 nodes a face
+// diagonal away), else of the single 3-ring node (the opposite corner). With no visible
+// node in the cell the node is invalid and refilled afterwards (refill(): §3,
+// Gauss–Jacobi over valid visible neighbours, then the positive distance to the object).
+// Nodes outside the shell band take the plain trilinear path.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
+#include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+
+namespace shellflow::grid_fluid {
+
+class LevelSetAdvector {
+ public:
+  explicit LevelSetAdvector(const grid::UniformGrid& grid) : m_grid(grid) {}
+
+  /// out = φ advected over dt by the node velocities of `velocity`. Appends to `invalid`
+  /// the nodes whose stencil saw no visible node (their `out` value is left as `in`'s).
+  void advect(std::span<const double> in, const NodeFields& velocity, double dt,
+              const ShellGeometry& shells, const geometry::ShellBand* band, std::span<double> out,
+              std::vector<std::int64_t>& invalid) const;
+
+  /// §3 refill of the listed invalid nodes (`valid` is 0 there, 1 elsewhere; all 1 on
+  /// return): Gauss–Jacobi over valid visible neighbours, the positive distance to the
+  /// object along the ray standing in for neighbours that are not visible.
+  void refill(std::span<double> phi, std::span<std::uint8_t> valid,
+              std::span<const std::int64_t> invalid, const ShellGeometry& shells) const;
+
+ private:
+  grid::UniformGrid m_grid;
+};
+
+}  // namespace shellflow::grid_fluid

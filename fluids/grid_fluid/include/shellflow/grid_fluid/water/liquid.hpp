@@ -1,0 +1,80 @@
+#pragma once
+// Liquid: the water of a grid_fluid scene and its phases of the §6 step (§4.4,
+// Guendelman et al. 2005), called by GridFluid in this order:
+//   advect()       φ^n → φ* along the velocity's semi-Lagrangian rays (§4.4.1)
+//   add_sources()  emitters union their shapes into φ and hold their faces
+//   refill()       nodes swept by the shells n → n+1 (and those whose stencil saw no
+//                  visible node) take valid values (§3)
+//   reinitialize() fast marching to a signed distance against the shells at n+1
+//   surface()      the liquid cells and ghost-fluid data for the projection (§4.3)
+//   extrapolate()  after the projection: face velocities across the surface (§4.4)
+// A smoke scene has no Liquid (no level set is built).
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+#include <vector>
+
+#include "shellflow/grid_fluid/mac/domain_boundary.hpp"
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
+#include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
+#include "shellflow/grid_fluid/water/fast_marching.hpp"
+#include "shellflow/grid_fluid/water/level_set.hpp"
+#include "shellflow/grid_fluid/water/level_set_advector.hpp"
+#include "shellflow/grid_fluid/water/velocity_extrapolation.hpp"
+#include "shellflow/grid_fluid/water/water_source.hpp"
+#include "shellflow/sdk/schema.hpp"
+
+namespace shellflow::grid_fluid {
+
+/// What the liquid's phases did in the last step, with their wall times [s].
+struct LiquidStats {
+  FastMarchingStats reinitialization;
+  ExtrapolationStats extrapolation;
+  std::int64_t invalid_nodes = 0;  ///< φ nodes refilled (§3, §4.4.1)
+  std::int64_t source_nodes = 0;
+  double t_level_set = 0.0;  ///< advection, sources and refill of φ
+  double t_reinitialize = 0.0;
+  double t_extrapolate = 0.0;
+};
+
+class Liquid {
+ public:
+  /// The "water" block of the scene (schema()); `up` the pools' up direction.
+  Liquid(const nlohmann::json& params, const grid::UniformGrid& grid, const Eigen::Vector3d& up);
+  static sdk::Schema schema();
+
+  const LevelSet& level_set() const { return m_level_set; }
+  LevelSet& level_set() { return m_level_set; }
+  const LiquidStats& stats() const { return m_stats; }
+  const std::vector<WaterSource>& sources() const { return m_sources; }
+  double initial_volume() const { return m_initial_volume; }
+
+  void advect(const NodeFields& velocity, double dt, const ShellGeometry& shells,
+              const geometry::ShellBand* band);
+  void add_sources(double t, DomainBoundary& boundary);
+  /// `swept` flags (0) the nodes the shells swept n → n+1 (SweptRefill); may be empty.
+  void refill(std::span<const std::uint8_t> node_valid_before, const ShellGeometry& shells);
+  void reinitialize(const ShellGeometry& shells, const geometry::ShellBand* band);
+  /// The projection's view of the liquid (valid until the next advect()).
+  const FreeSurface& surface();
+  void extrapolate(MacGrid& mac, const PressureProjection& projection, const ShellGeometry& shells,
+                   const geometry::ShellBand* band);
+
+ private:
+  LevelSet m_level_set;
+  std::vector<double> m_scratch;  ///< φ* being advected
+  LevelSetAdvector m_advector;
+  FastMarching m_fast_marching;
+  VelocityExtrapolation m_extrapolation;
+  std::vector<WaterSource> m_sources;
+  double m_extrapolation_width = 0.0;  ///< [m]
+  std::vector<std::int64_t> m_invalid;
+  std::vector<std::uint8_t> m_valid;
+  std::vector<double> m_cell_phi;
+  FreeSurface m_surface;
+  std::array<std::vector<std::uint8_t>, 3> m_known;
+  double m_initial_volume = 0.0;
+  LiquidStats m_stats;
+};
+
+}  // namespace shellflow::grid_fluid

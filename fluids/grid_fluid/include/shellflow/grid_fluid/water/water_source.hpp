@@ -1,0 +1,38 @@
+#pragma once
+// WaterSource: an emitter of water (the paper's streams, §7; PhysBAM's source boxes and
+// cylinders): a sphere, box or cylinder inside which, while it is on, φ is set to the
+// emitter's signed distance wherever that is smaller (the union of the water with the
+// emitter) and whose velocity is held on the faces of its cells in every pressure solve.
+// Its cells are sealed (every face held), so the volume it adds is its own: a nozzle fed
+// from outside the domain. The shape, timing and held faces are those of SmokeSource.
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "shellflow/grid_fluid/smoke/smoke_source.hpp"
+#include "shellflow/grid_fluid/water/level_set.hpp"
+
+namespace shellflow::grid_fluid {
+
+class WaterSource {
+ public:
+  WaterSource(const nlohmann::json& spec, const std::string& json_path)
+      : m_emitter(spec, json_path) {}
+  static sdk::Schema schema() { return SmokeSource::schema(false); }
+
+  bool active(double t) const { return m_emitter.active(t); }
+  const std::optional<Eigen::Vector3d>& velocity() const { return m_emitter.velocity(); }
+  /// φ = min(φ, signed distance to the emitter) on the nodes within the level set's band
+  /// of it, while on at time t. Returns the nodes inside.
+  std::int64_t apply(double t, LevelSet& level_set) const;
+  /// The held faces of family `axis` (SmokeSource::append_faces with a closed intake).
+  void append_faces(double t, const grid::UniformGrid& grid, int axis,
+                    std::vector<SourceFace>& out) const {
+    m_emitter.append_faces(t, grid, axis, true, out);
+  }
+
+ private:
+  SmokeSource m_emitter;
+};
+
+}  // namespace shellflow::grid_fluid

@@ -1,0 +1,132 @@
+#include "shellflow/grid_fluid/water/initial_water.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shellflow/geometry/mesh_generators.hpp"
+#include "shellflow/geometry/triangle_bvh.hpp"
+#include "shellflow/sdk/error.hpp"
+#include "shellflow/sdk/json_helpers.hpp"
+
+namespace shellflow::grid_fluid {
+
+using grid::Location;
+
+sdk::Schema initial_water_schema() {
+  using sdk::Schema;
+  return Schema::variant("type", "a body of water at the start")
+      .option("pool", Schema::object("water below a height along the up direction (-gravity)")
+                          .field("height", Schema::number().unit("m").doc(
+                                               "level of the surface: x·up = height")))
+      .option("box", Schema::object("an axis-aligned box of water")
+                         .field("min", Schema::vec3().unit("m").doc("corner"))
+                         .field("max", Schema::vec3().unit("m").doc("opposite corner")))
+      .option("sphere",
+              Schema::object("a ball of water")
+                  .field("center", Schema::vec3().unit("m").doc("centre"))
+                  .field("radius", Schema::number().min(0.0, false).unit("m").doc("radius")))
+      .option("mesh", Schema::object("the inside of a closed triangle mesh")
+                          .field("mesh", geometry::mesh_schema())
+                          .field("transform", geometry::transform_schema()));
+}
+
+namespace {
+
+/// φ = min(φ, signed distance of the closed mesh) on the nodes of its box grown by band.
+void fill_mesh(const geometry::SurfaceMesh& surface, LevelSet& level_set) {
+  const grid::UniformGrid& grid = level_set.grid();
+  const double band = level_set.band();
+  const geometry::TriangleMesh mesh(surface.positions, surface.triangles);
+  const geometry::TriangleBvh bvh(mesh);
+  const Eigen::Vector3d lo = surface.positions.colwise().minCoeff().transpose();
+  const Eigen::Vector3d hi = surface.positions.colwise().maxCoeff().transpose();
+  const grid::IndexBox box =
+      grid.samples_in_box(Location::Node, lo.array() - band, hi.array() + band);
+  if (box.empty()) return;
+  auto& phi = level_set.phi();
+#pragma omp parallel
+  {
+    std::vector<double> crossings;
+#pragma omp for collapse(2) schedule(dynamic, 4)
+    for (int k = box.lo.z(); k <= box.hi.z(); ++k)
+      for (int j = box.lo.y(); j <= box.hi.y(); ++j) {
+        // Crossings of the row's line with the mesh (y–z projection), for the sign.
+        const Eigen::Vector3d row = grid.position(Location::Node, Eigen::Vector3i(0, j, k));
+        const double y = row.y(), z = row.z();
+        const Eigen::Vector3d a(lo.x() - 1.0, y, z), b(hi.x() + 1.0, y, z);
+        crossings.clear();
+        bvh.triangles_near_segment(a, b, 0.0, [&](int t) {
+          const auto c = mesh.corners(t);
+          // Barycentrics of (y, z) in the projected triangle.
+          const double d = (c[1].y() - c[0].y()) * (c[2].z() - c[0].z()) -
+                           (c[2].y() - c[0].y()) * (c[1].z() - c[0].z());
+          if (d == 0.0) return false;
+          const double l1 =
+              ((y - c[0].y()) * (c[2].z() - c[0].z()) - (c[2].y() - c[0].y()) * (z - c[0].z())) / d;
+          const double l2 =
+              ((c[1].y() - c[0].y()) * (z - c[0].z()) - (y - c[0].y()) * (c[1].z() - c[0].z())) / d;
+          // Half-open on edges so that a line through a shared edge counts once.
+          if (l1 < 0.0 || l2 < 0.0 || l1 + l2 >= 1.0) return false;
+          crossings.push_back(c[0].x() + l1 * (c[1].x() - c[0].x()) + l2 * (c[2].x() - c[0].x()));
+          return false;
+        });
+        std::sort(crossings.begin(), crossings.end());
+        for (int i = box.lo.x(); i <= box.hi.x(); ++i) {
+          const Eigen::Vector3d p = grid.position(Location::Node, Eigen::Vector3i(i, j, k));
+          const auto after = std::upper_bound(crossings.begin(), crossings.end(), p.x());
+          const bool inside = (crossings.end() - after) % 2 == 1;
+          const auto closest = bvh.closest_point(p, band);
+          const double d = closest.triangle >= 0 ? std::sqrt(closest.distance2) : band;
+          double& v = phi[grid.index(Location::Node, i, j, k)];
+          v = std::min(v, inside ? -d : d);
+        }
+      }
+  }
+}
+
+}  // namespace
+
+void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up,
+                        const std::string& json_path, LevelSet& level_set) {
+  const grid::UniformGrid& grid = level_set.grid();
+  auto& phi = level_set.phi();
+  const std::int64_t count = grid.size(Location::Node);
+  for (size_t e = 0; e < entries.size(); ++e) {
+    const auto& spec = entries[e];
+    const std::string path = json_path + "/" + std::to_string(e);
+    const std::string type = spec.at("type").get<std::string>();
+    std::function<double(const Eigen::Vector3d&)> distance;
+    if (type == "pool") {
+      const double height = spec.at("height").get<double>();
+      distance = [=](const Eigen::Vector3d& p) { return p.dot(up) - height; };
+    } else if (type == "box") {
+      const Eigen::Vector3d lo = sdk::json_vec3(spec, "min"), hi = sdk::json_vec3(spec, "max");
+      if ((hi.array() <= lo.array()).any())
+        throw ConfigError(path + "/max", "every coordinate of max must exceed min's");
+      distance = [=](const Eigen::Vector3d& p) {
+        const Eigen::Vector3d q = (p - 0.5 * (lo + hi)).cwiseAbs() - 0.5 * (hi - lo);
+        return std::min(q.maxCoeff(), 0.0) + q.cwiseMax(0.0).norm();
+      };
+    } else if (type == "sphere") {
+      const Eigen::Vector3d c = sdk::json_vec3(spec, "center");
+      const double r = spec.at("radius").get<double>();
+      distance = [=](const Eigen::Vector3d& p) { return (p - c).norm() - r; };
+    } else {
+      auto surface = geometry::make_mesh(spec.at("mesh"), path + "/mesh");
+      geometry::apply_transform(
+          geometry::transform_from_json(spec.value("transform", nlohmann::json::object()),
+                                        path + "/transform"),
+          surface);
+      fill_mesh(surface, level_set);
+      continue;
+    }
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < count; ++i)
+      phi[i] = std::min(phi[i], distance(grid.position(Location::Node, i)));
+  }
+  const double band = level_set.band();
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < count; ++i) phi[i] = std::clamp(phi[i], -band, band);
+}
+
+}  // namespace shellflow::grid_fluid

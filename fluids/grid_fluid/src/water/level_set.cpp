@@ -1,0 +1,75 @@
+#include "shellflow/grid_fluid/water/level_set.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
+
+namespace shellflow::grid_fluid {
+
+using grid::Location;
+
+LevelSet::LevelSet(const grid::UniformGrid& grid, double band)
+    : m_grid(grid), m_band(band), m_phi(grid.size(Location::Node), band) {}
+
+double LevelSet::sample(const Eigen::Vector3d& p) const {
+  const NodeStencil st = node_stencil(m_grid, p);
+  double v = 0.0;
+  for (int c = 0; c < 8; ++c) v += st.weight(c) * m_phi[st.corner(m_grid, c)];
+  return v;
+}
+
+void LevelSet::cell_values(std::vector<double>& out) const {
+  const Eigen::Vector3i n = m_grid.cells();
+  const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
+  const std::int64_t sy = nodes.x(), sz = std::int64_t(nodes.x()) * nodes.y();
+  out.resize(m_grid.size(Location::Cell));
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j)
+      for (int i = 0; i < n.x(); ++i) {
+        const std::int64_t o = m_grid.index(Location::Node, i, j, k);
+        const double* p = m_phi.data() + o;
+        out[m_grid.index(Location::Cell, i, j, k)] =
+            0.125 *
+            (p[0] + p[1] + p[sy] + p[sy + 1] + p[sz] + p[sz + 1] + p[sz + sy] + p[sz + sy + 1]);
+      }
+}
+
+double LevelSet::volume() const {
+  const Eigen::Vector3i n = m_grid.counts(Location::Node);
+  const double eps = 1.5 * m_grid.dx();
+  double sum = 0.0;
+#pragma omp parallel for collapse(2) schedule(static) reduction(+ : sum)
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j)
+      for (int i = 0; i < n.x(); ++i) {
+        const double phi = m_phi[m_grid.index(Location::Node, i, j, k)];
+        double h;  // H(−φ)
+        if (phi <= -eps) {
+          h = 1.0;
+        } else if (phi >= eps) {
+          continue;
+        } else {
+          const double x = -phi;
+          h = 0.5 + x / (2.0 * eps) +
+              std::sin(std::numbers::pi * x / eps) / (2.0 * std::numbers::pi);
+        }
+        const double w = (i == 0 || i == n.x() - 1 ? 0.5 : 1.0) *
+                         (j == 0 || j == n.y() - 1 ? 0.5 : 1.0) *
+                         (k == 0 || k == n.z() - 1 ? 0.5 : 1.0);
+        sum += w * h;
+      }
+  const double dx = m_grid.dx();
+  return sum * dx * dx * dx;
+}
+
+std::int64_t LevelSet::liquid_nodes() const {
+  std::int64_t count = 0;
+  const std::int64_t n = static_cast<std::int64_t>(m_phi.size());
+#pragma omp parallel for schedule(static) reduction(+ : count)
+  for (std::int64_t i = 0; i < n; ++i) count += m_phi[i] <= 0.0 ? 1 : 0;
+  return count;
+}
+
+}  // namespace shellflow::grid_fluid

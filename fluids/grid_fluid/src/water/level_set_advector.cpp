@@ -1,0 +1,100 @@
+#include "shellflow/grid_fluid/water/level_set_advector.hpp"
+
+#include <omp.h>
+
+#include <bit>
+
+#include "shellflow/geometry/gauss_jacobi_refill.hpp"
+
+namespace shellflow::grid_fluid {
+
+using grid::Location;
+
+void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velocity, double dt,
+                              const ShellGeometry& shells, const geometry::ShellBand* band,
+                              std::span<double> out, std::vector<std::int64_t>& invalid) const {
+  const std::int64_t count = m_grid.size(Location::Node);
+  const std::span<const std::uint8_t> in_band =
+      band && !shells.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
+  const Eigen::Vector3d lower = m_grid.origin();
+  const Eigen::Vector3d upper = m_grid.upper();
+  const double eps_prime = geometry::WedgeCaster::kSemiLagrangianFactor * shells.epsilon();
+  std::vector<std::vector<std::int64_t>> per_thread(omp_get_max_threads());
+#pragma omp parallel
+  {
+    std::vector<std::int64_t>& mine = per_thread[omp_get_thread_num()];
+#pragma omp for schedule(dynamic, 1024)
+    for (std::int64_t node = 0; node < count; ++node) {
+      const Eigen::Vector3d x = m_grid.position(Location::Node, node);
+      const Eigen::Vector3d departure =
+          (x - dt * velocity.velocity_at(node)).cwiseMax(lower).cwiseMin(upper);
+      if (in_band.empty() || in_band[node] == 0) {
+        const NodeStencil st = node_stencil(m_grid, departure);
+        double v = 0.0;
+        for (int c = 0; c < 8; ++c) v += st.weight(c) * in[st.corner(m_grid, c)];
+        out[node] = v;
+        continue;
+      }
+      // §4.1 clipped ray, then one secondary ray per cell node (§4.4.1).
+      const Eigen::Vector3d base = shells.clip(x, departure, eps_prime);
+      const NodeStencil st = node_stencil(m_grid, base);
+      double value[8];
+      unsigned visible = 0;
+      for (int c = 0; c < 8; ++c) {
+        const std::int64_t corner = st.corner(m_grid, c);
+        value[c] = in[corner];
+        if (shells.visible(base, m_grid.position(Location::Node, corner))) visible |= 1u << c;
+      }
+      if (visible == 0) {
+        out[node] = in[node];
+        mine.push_back(node);
+        continue;
+      }
+      double v = 0.0;
+      for (int c = 0; c < 8; ++c) {
+        double phi = value[c];
+        if ((visible >> c & 1u) == 0) {
+          // Rings of the cell around corner c: corners differing in 1, 2, then 3 bits.
+          for (int ring = 1; ring <= 3; ++ring) {
+            double sum = 0.0;
+            int terms = 0;
+            for (int d = 0; d < 8; ++d)
+              if ((visible >> d & 1u) != 0 && std::popcount(unsigned(c ^ d)) == ring) {
+                sum += value[d];
+                ++terms;
+              }
+            if (terms > 0) {
+              phi = sum / terms;
+              break;
+            }
+          }
+        }
+        v += st.weight(c) * phi;
+      }
+      out[node] = v;
+    }
+  }
+  for (const auto& list : per_thread) invalid.insert(invalid.end(), list.begin(), list.end());
+}
+
+void LevelSetAdvector::refill(std::span<double> phi, std::span<std::uint8_t> valid,
+                              std::span<const std::int64_t> invalid,
+                              const ShellGeometry& shells) const {
+  if (invalid.empty()) return;
+  const geometry::GaussJacobiRefill refill(m_grid, Location::Node);
+  const auto visible = [&](std::int64_t from, std::int64_t to) {
+    return shells.visible(m_grid.position(Location::Node, from),
+                          m_grid.position(Location::Node, to));
+  };
+  const auto object_value = [&](std::int64_t from, std::int64_t to) {
+    // The positive distance to the object (§4.4.1): air against the shell.
+    const Eigen::Vector3d a = m_grid.position(Location::Node, from);
+    const Eigen::Vector3d b = m_grid.position(Location::Node, to);
+    const auto hit = shells.first_hit(a, b);
+    const double d = hit ? hit->s * (b - a).norm() : 0.0;
+    return std::max(d, shells.epsilon());
+  };
+  refill.run<double>(phi, valid, invalid, visible, object_value);
+}
+
+}  // namespace shellflow::grid_fluid

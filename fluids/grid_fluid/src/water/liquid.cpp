@@ -1,0 +1,145 @@
+#include "shellflow/grid_fluid/water/liquid.hpp"
+
+#include "shellflow/grid_fluid/water/initial_water.hpp"
+#include "shellflow/sdk/error.hpp"
+
+namespace shellflow::grid_fluid {
+
+using grid::Location;
+
+namespace {
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+}  // namespace
+
+sdk::Schema Liquid::schema() {
+  using sdk::Schema;
+  return Schema::object(
+             "water (§4.4): a level set on the nodes, φ <= 0 water; its presence makes the "
+             "scene a water scene (no smoke density, temperature, buoyancy or vorticity)")
+      .field("initial", Schema::array(initial_water_schema())
+                            .default_value(Schema::Json::array())
+                            .doc("bodies of water at the start, united"))
+      .field("sources", Schema::array(WaterSource::schema())
+                            .default_value(Schema::Json::array())
+                            .doc("water emitters (streams): φ set inside, velocity held on "
+                                 "their faces, volume added"))
+      .field("band", Schema::number(6.0).min(3.0).max(20.0).unit("Δx").doc(
+                         "half-width of the band in which fast marching keeps φ a signed "
+                         "distance (beyond it φ = ±band)"))
+      .field("extrapolation", Schema::number(5.0).min(1.0).max(19.0).unit("Δx").doc(
+                                  "width of the band into which velocities are extrapolated "
+                                  "across the surface (§4.4: 3–5 cells); below `band`"))
+      .field("surface_pressure",
+             Schema::string("ghost_fluid")
+                 .one_of({"ghost_fluid", "first_order"})
+                 .doc("air cells are p = 0 (§4.3); ghost_fluid places the surface between cell "
+                      "centres at θ = φ_i/(φ_i − φ_j) (Gibou et al. 2002, second order), "
+                      "first_order at the air cell's centre"));
+}
+
+Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
+               const Eigen::Vector3d& up)
+    : m_level_set(grid, params.at("band").get<double>() * grid.dx()),
+      m_advector(grid),
+      m_fast_marching(grid),
+      m_extrapolation(grid) {
+  const double band = params.at("band").get<double>();
+  const double width = params.at("extrapolation").get<double>();
+  if (!(width < band))
+    throw ConfigError("/water/extrapolation",
+                      "must be below /water/band (" + std::to_string(band) +
+                          "): velocities are extrapolated inside the signed-distance band");
+  m_extrapolation_width = width * grid.dx();
+  m_surface.ghost_fluid = params.at("surface_pressure").get<std::string>() == "ghost_fluid";
+  fill_initial_water(params.at("initial"), up, "/water/initial", m_level_set);
+  const auto& sources = params.at("sources");
+  for (size_t i = 0; i < sources.size(); ++i)
+    m_sources.emplace_back(sources[i], "/water/sources/" + std::to_string(i));
+  m_scratch = m_level_set.phi();
+  m_valid.assign(m_level_set.phi().size(), 1);
+  // The pools' planes and boxes are exact distances; meshes and unions are made one.
+  m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), ShellGeometry(), nullptr);
+  m_initial_volume = m_level_set.volume();
+}
+
+void Liquid::advect(const NodeFields& velocity, double dt, const ShellGeometry& shells,
+                    const geometry::ShellBand* band) {
+  const auto start = std::chrono::steady_clock::now();
+  m_stats = LiquidStats{};
+  m_invalid.clear();
+  m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid);
+  std::swap(m_level_set.phi(), m_scratch);
+  m_stats.t_level_set += seconds_since(start);
+}
+
+void Liquid::add_sources(double t, DomainBoundary& boundary) {
+  const auto start = std::chrono::steady_clock::now();
+  for (const auto& s : m_sources) m_stats.source_nodes += s.apply(t, m_level_set);
+  for (int a = 0; a < 3; ++a) {
+    std::vector<SourceFace> faces;
+    for (const auto& s : m_sources) s.append_faces(t, m_level_set.grid(), a, faces);
+    boundary.set_source_faces(a, std::move(faces));
+  }
+  m_stats.t_level_set += seconds_since(start);
+}
+
+void Liquid::refill(std::span<const std::uint8_t> node_valid_before, const ShellGeometry& shells) {
+  const auto start = std::chrono::steady_clock::now();
+  if (!node_valid_before.empty()) {
+    // Swept nodes hold φ from the other side of the shell (§3).
+    for (std::int64_t i = 0; i < static_cast<std::int64_t>(node_valid_before.size()); ++i)
+      if (node_valid_before[i] == 0) m_invalid.push_back(i);
+  }
+  for (const std::int64_t i : m_invalid) m_valid[i] = 0;
+  m_stats.invalid_nodes = static_cast<std::int64_t>(m_invalid.size());
+  m_advector.refill(m_level_set.phi(), m_valid, m_invalid, shells);
+  for (const std::int64_t i : m_invalid) m_valid[i] = 1;
+  m_stats.t_level_set += seconds_since(start);
+}
+
+void Liquid::reinitialize(const ShellGeometry& shells, const geometry::ShellBand* band) {
+  const auto start = std::chrono::steady_clock::now();
+  m_stats.reinitialization =
+      m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
+  m_stats.t_reinitialize = seconds_since(start);
+}
+
+const FreeSurface& Liquid::surface() {
+  m_level_set.cell_values(m_cell_phi);
+  m_surface.cell_phi = m_cell_phi;
+  return m_surface;
+}
+
+void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
+                         const ShellGeometry& shells, const geometry::ShellBand* band) {
+  const auto start = std::chrono::steady_clock::now();
+  const grid::UniformGrid& grid = m_level_set.grid();
+  const Eigen::Vector3i cells = grid.cells();
+  for (int a = 0; a < 3; ++a) {
+    // Known: the faces the projection set, those next to a liquid cell, and Neumann faces.
+    const Location loc = face_location(a);
+    const Eigen::Vector3i n = grid.counts(loc);
+    auto& known = m_known[a];
+    known.resize(grid.size(loc));
+    const auto& neumann = projection.neumann(a);
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int k = 0; k < n.z(); ++k)
+      for (int j = 0; j < n.y(); ++j)
+        for (int i = 0; i < n.x(); ++i) {
+          Eigen::Vector3i c(i, j, k);
+          const std::int64_t f = grid.index(loc, c);
+          bool set = neumann[f] != 0;
+          if (!set && c[a] < cells[a]) set = projection.fluid_cell(grid.index(Location::Cell, c));
+          c[a] -= 1;
+          if (!set && c[a] >= 0) set = projection.fluid_cell(grid.index(Location::Cell, c));
+          known[f] = set ? 1 : 0;
+        }
+  }
+  m_stats.extrapolation =
+      m_extrapolation.extrapolate(mac, m_known, m_level_set, m_extrapolation_width, shells, band);
+  m_stats.t_extrapolate = seconds_since(start);
+}
+
+}  // namespace shellflow::grid_fluid

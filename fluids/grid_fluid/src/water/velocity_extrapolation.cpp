@@ -1,0 +1,106 @@
+#include "shellflow/grid_fluid/water/velocity_extrapolation.hpp"
+
+#include <algorithm>
+
+#include "shellflow/geometry/gauss_jacobi_refill.hpp"
+
+namespace shellflow::grid_fluid {
+
+using grid::Location;
+
+ExtrapolationStats VelocityExtrapolation::extrapolate(
+    MacGrid& mac, const std::array<std::vector<std::uint8_t>, 3>& known, const LevelSet& level_set,
+    double width, const ShellGeometry& shells, const geometry::ShellBand* band) {
+  ExtrapolationStats stats;
+  const auto& phi = level_set.phi();
+  const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
+  const std::int64_t node_stride[3] = {1, nodes.x(), std::int64_t(nodes.x()) * nodes.y()};
+  for (int a = 0; a < 3; ++a) {
+    const Location loc = face_location(a);
+    const Eigen::Vector3i n = m_grid.counts(loc);
+    const std::int64_t count = m_grid.size(loc);
+    const std::int64_t stride[3] = {1, n.x(), std::int64_t(n.x()) * n.y()};
+    const std::span<const std::uint8_t> in_band =
+        band && !shells.empty() ? band->flags(loc) : std::span<const std::uint8_t>();
+    auto& u = mac.face_velocity(a);
+    m_face_phi.resize(count);
+    m_valid.resize(count);
+    // The two axes spanning the face: its four nodes are at +0/+1 along each.
+    const int b = (a + 1) % 3, c = (a + 2) % 3;
+    std::int64_t known_count = 0;
+#pragma omp parallel for schedule(static) reduction(+ : known_count)
+    for (std::int64_t f = 0; f < count; ++f) {
+      const Eigen::Vector3i ijk = m_grid.coordinates(loc, f);
+      const std::int64_t o = m_grid.index(Location::Node, ijk);
+      m_face_phi[f] = 0.25 * (phi[o] + phi[o + node_stride[b]] + phi[o + node_stride[c]] +
+                              phi[o + node_stride[b] + node_stride[c]]);
+      m_valid[f] = known[a][f];
+      known_count += known[a][f];
+    }
+    stats.known_faces += known_count;
+    m_order.clear();
+    for (std::int64_t f = 0; f < count; ++f) {
+      if (m_valid[f] != 0) continue;
+      if (m_face_phi[f] < width) {
+        m_order.push_back({m_face_phi[f], f});
+      } else {
+        u[f] = 0.0;  // beyond the band: never read
+      }
+    }
+    std::sort(m_order.begin(), m_order.end());
+    const auto visible = [&](std::int64_t from, std::int64_t to) {
+      if (in_band.empty() || (in_band[from] == 0 && in_band[to] == 0)) return true;
+      return shells.visible(m_grid.position(loc, from), m_grid.position(loc, to));
+    };
+    std::vector<std::int64_t> invalid;
+    // Sequential in φ order: each face reads only faces of lower φ, already final.
+    for (const auto& [phi_f, f] : m_order) {
+      const Eigen::Vector3i ijk = m_grid.coordinates(loc, f);
+      double weighted = 0.0, weights = 0.0, plain = 0.0;
+      int terms = 0;
+      for (int ax = 0; ax < 3; ++ax) {
+        std::int64_t best = -1;
+        double best_phi = phi_f;
+        for (int side = 0; side < 2; ++side) {
+          const int cc = ijk[ax] + (side == 0 ? -1 : 1);
+          if (cc < 0 || cc >= n[ax]) continue;
+          const std::int64_t g = f + (side == 0 ? -stride[ax] : stride[ax]);
+          if (m_valid[g] == 0 || !visible(f, g)) continue;
+          plain += u[g];
+          ++terms;
+          if (m_face_phi[g] < best_phi) {
+            best_phi = m_face_phi[g];
+            best = g;
+          }
+        }
+        if (best >= 0) {
+          weighted += (phi_f - best_phi) * u[best];
+          weights += phi_f - best_phi;
+        }
+      }
+      if (weights > 0.0) {
+        u[f] = weighted / weights;
+      } else if (terms > 0) {
+        u[f] = plain / terms;  // level φ (a flat surface along this face): the mean
+      } else {
+        invalid.push_back(f);
+        continue;
+      }
+      m_valid[f] = 1;
+    }
+    stats.extrapolated_faces += static_cast<std::int64_t>(m_order.size() - invalid.size());
+    stats.invalid_faces += static_cast<std::int64_t>(invalid.size());
+    if (!invalid.empty()) {
+      // §3: hidden behind a shell from every known face: Gauss–Jacobi, object velocity.
+      const geometry::GaussJacobiRefill refill(m_grid, loc);
+      const auto object_value = [&](std::int64_t from, std::int64_t to) {
+        return shells.object_velocity(m_grid.position(loc, from), m_grid.position(loc, to))[a];
+      };
+      refill.run<double>(std::span<double>(u), std::span<std::uint8_t>(m_valid), invalid, visible,
+                         object_value);
+    }
+  }
+  return stats;
+}
+
+}  // namespace shellflow::grid_fluid
