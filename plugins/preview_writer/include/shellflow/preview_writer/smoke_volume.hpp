@@ -1,10 +1,7 @@
 #pragma once
 // SmokeVolume: a density field seen by a ray marcher. Trilinear interpolation between
 // samples, the value of the nearest border sample beyond the outer samples (so a
-// cell-centred field fills its whole cells), zero outside the field's box.
-//
-// The box: cell-centred samples cover [origin - dx/2, origin + (dims - 1/2) dx], node
-// samples [origin, origin + (dims - 1) dx].
+// cell-centred field fills its whole cells), zero outside the field's box (TrilinearField).
 //
 // optical_depth() integrates ρ along a ray segment by the midpoint rule with step h
 // (the last step clipped to the segment's end). The trilinear interpolant is linear
@@ -13,9 +10,8 @@
 // plane: at most 2 max|ρ| / dx).
 
 #include <Eigen/Core>
-#include <array>
-#include <vector>
 
+#include "shellflow/preview_writer/trilinear_field.hpp"
 #include "shellflow/sdk/fluid_solver.hpp"
 
 namespace shellflow::preview_writer {
@@ -36,17 +32,12 @@ class SmokeVolume {
   bool clip(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double& s_in,
             double& s_out) const;
 
-  double dx() const { return m_dx; }
-  const Eigen::Vector3d& lower() const { return m_lower; }
-  const Eigen::Vector3d& upper() const { return m_upper; }
+  double dx() const { return m_field.dx(); }
+  const Eigen::Vector3d& lower() const { return m_field.lower(); }
+  const Eigen::Vector3d& upper() const { return m_field.upper(); }
 
  private:
-  const double* m_data = nullptr;
-  std::array<int, 3> m_dims{0, 0, 0};
-  Eigen::Vector3d m_origin = Eigen::Vector3d::Zero();
-  double m_dx = 0.0;
-  Eigen::Vector3d m_lower = Eigen::Vector3d::Zero();
-  Eigen::Vector3d m_upper = Eigen::Vector3d::Zero();
+  TrilinearField m_field;
 };
 
 }  // namespace shellflow::preview_writer

@@ -1,0 +1,76 @@
+#include "shellflow/preview_writer/trilinear_field.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace shellflow::preview_writer {
+
+TrilinearField::TrilinearField(const sdk::FieldView& field, const std::string& role)
+    : m_data(field.data[0]), m_dims(field.dims), m_origin(field.origin), m_dx(field.dx) {
+  if (field.components != 1 || m_data == nullptr)
+    throw std::invalid_argument("the " + role + " field \"" + field.name +
+                                "\" is not a scalar field");
+  if (m_dims[0] <= 0 || m_dims[1] <= 0 || m_dims[2] <= 0 || !(m_dx > 0.0))
+    throw std::invalid_argument("the " + role + " field \"" + field.name + "\" is empty");
+  const Eigen::Vector3d last =
+      m_origin + m_dx * Eigen::Vector3d(m_dims[0] - 1, m_dims[1] - 1, m_dims[2] - 1);
+  const double pad = field.location == sdk::FieldView::Location::Cell ? 0.5 * m_dx : 0.0;
+  m_lower = m_origin.array() - pad;
+  m_upper = last.array() + pad;
+}
+
+bool TrilinearField::contains(const Eigen::Vector3d& x) const {
+  return (x.array() >= m_lower.array()).all() && (x.array() <= m_upper.array()).all();
+}
+
+double TrilinearField::value(const Eigen::Vector3d& x) const {
+  int base[3];
+  double w[3];
+  for (int a = 0; a < 3; ++a) {
+    // Grid coordinate, clamped to the outer samples (constant beyond them).
+    const double g =
+        std::clamp((x[a] - m_origin[a]) / m_dx, 0.0, static_cast<double>(m_dims[a] - 1));
+    base[a] = std::min(static_cast<int>(g), std::max(m_dims[a] - 2, 0));
+    w[a] = m_dims[a] > 1 ? g - base[a] : 0.0;
+  }
+  // Sample (i,j,k) at i + nx (j + ny k) (sdk::FieldView).
+  const size_t sx = 1;
+  const size_t sy = static_cast<size_t>(m_dims[0]);
+  const size_t sz = sy * static_cast<size_t>(m_dims[1]);
+  const size_t step[3] = {m_dims[0] > 1 ? sx : 0, m_dims[1] > 1 ? sy : 0, m_dims[2] > 1 ? sz : 0};
+  const double* p = m_data + base[0] * sx + base[1] * sy + base[2] * sz;
+  auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
+  const double c00 = lerp(p[0], p[step[0]], w[0]);
+  const double c10 = lerp(p[step[1]], p[step[1] + step[0]], w[0]);
+  const double c01 = lerp(p[step[2]], p[step[2] + step[0]], w[0]);
+  const double c11 = lerp(p[step[2] + step[1]], p[step[2] + step[1] + step[0]], w[0]);
+  return lerp(lerp(c00, c10, w[1]), lerp(c01, c11, w[1]), w[2]);
+}
+
+bool TrilinearField::clip(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                          double& s_in, double& s_out, int* entry_axis) const {
+  // Slab test (Kay–Kajiya 1986).
+  s_in = -std::numeric_limits<double>::infinity();
+  s_out = std::numeric_limits<double>::infinity();
+  int axis = -1;
+  for (int a = 0; a < 3; ++a) {
+    if (direction[a] == 0.0) {
+      if (origin[a] < m_lower[a] || origin[a] > m_upper[a]) return false;
+      continue;
+    }
+    double t0 = (m_lower[a] - origin[a]) / direction[a];
+    double t1 = (m_upper[a] - origin[a]) / direction[a];
+    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > s_in) {
+      s_in = t0;
+      axis = a;
+    }
+    s_out = std::min(s_out, t1);
+  }
+  if (entry_axis != nullptr) *entry_axis = axis;
+  return s_in <= s_out;
+}
+
+}  // namespace shellflow::preview_writer
