@@ -1,6 +1,7 @@
 #pragma once
 // Known scenes for the preview tests: a slab of constant smoke density seen along its
-// normal, flat square shells, and the camera that looks straight through the slab.
+// normal, a ball of water (a sphere's level set), flat square shells, and the camera that
+// looks straight through the slab and at the ball's centre.
 
 #include <cmath>
 #include <memory>
@@ -34,6 +35,19 @@ inline void add_slab(writer_testing::SyntheticFluid& fluid) {
   for (int k = kSlabFirst; k <= kSlabLast; ++k)
     for (int j = 0; j < kCellsXY; ++j)
       for (int i = 0; i < kCellsXY; ++i) density.data[0][density.index(i, j, k)] = kRho;
+}
+
+// The ball of water: φ = |x| − kBallRadius on 41^3 nodes of kWaterDx filling [-0.8, 0.8]^3
+// (the centre on node (20, 20, 20)), clamped to ±3 dx as a fluid clamps it beyond its band.
+constexpr double kWaterDx = 0.04;
+constexpr int kWaterNodes = 41;
+constexpr double kBallRadius = 0.5;
+constexpr double kWaterBand = 3.0 * kWaterDx;
+
+inline void add_water_ball(writer_testing::SyntheticFluid& fluid) {
+  writer_testing::add_sphere_phi(fluid, Eigen::Vector3d::Constant(-0.8), kWaterDx,
+                                 {kWaterNodes, kWaterNodes, kWaterNodes}, Eigen::Vector3d::Zero(),
+                                 kBallRadius, kWaterBand);
 }
 
 /// A square of side 2 half_side in the plane z = z0, normal ±z, as two triangles.
