@@ -1,5 +1,6 @@
 #include "shellflow/preview_writer/preview_renderer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
@@ -7,6 +8,7 @@
 
 #include "shellflow/preview_writer/shell_scene.hpp"
 #include "shellflow/preview_writer/smoke_volume.hpp"
+#include "shellflow/preview_writer/water_surface.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/fluid_solver.hpp"
 
@@ -16,6 +18,10 @@ namespace {
 
 // The march stops once σ∫ρ ds exceeds this: T < e^-20 ≈ 2e-9, far below one 8-bit level.
 constexpr double kOpaqueOpticalDepth = 20.0;
+// Normal-incidence reflectance of water, ((n − 1)/(n + 1))² with n = 1.33.
+constexpr double kWaterF0 = 0.02;
+// The level set march never steps more than half a voxel (WaterSurface).
+constexpr double kMaxWaterStepVoxels = 0.5;
 
 std::optional<sdk::FieldView> find_field(const std::vector<sdk::FieldView>& fields,
                                          const std::string& name) {
@@ -32,6 +38,20 @@ double far_distance(const geometry::Aabb& box, const Eigen::Vector3d& p) {
 
 }  // namespace
 
+double water_fresnel(double cos_theta) {
+  const double c = std::clamp(1.0 - cos_theta, 0.0, 1.0);
+  const double c2 = c * c;
+  return kWaterF0 + (1.0 - kWaterF0) * c2 * c2 * c;  // Schlick 1994
+}
+
+Eigen::Vector3d water_shade(const PreviewSettings& s, const Eigen::Vector3d& normal,
+                            const Eigen::Vector3d& direction) {
+  const double cos_theta = std::abs(normal.dot(direction));  // headlight, two-sided
+  const double fresnel = water_fresnel(cos_theta);
+  const Eigen::Vector3d lambert = s.water_color * (s.ambient + (1.0 - s.ambient) * cos_theta);
+  return (1.0 - fresnel) * lambert + fresnel * s.water_rim_color;
+}
+
 PreviewRenderer::PreviewRenderer(const PreviewSettings& settings)
     : m_settings(settings),
       m_camera(settings.camera_position, settings.look_at, settings.up, settings.vertical_fov_deg,
@@ -40,19 +60,21 @@ PreviewRenderer::PreviewRenderer(const PreviewSettings& settings)
 RgbImage PreviewRenderer::render(const sdk::FrameView& frame) const {
   const ShellScene shells(frame.shells);
   std::optional<SmokeVolume> smoke;
+  std::optional<WaterSurface> water;
   std::vector<sdk::FieldView> fields;  // keeps the views alive for the render
   if (frame.fluid != nullptr) {
     fields = frame.fluid->fields();
-    if (auto density = find_field(fields, m_settings.density_field)) {
-      try {
-        smoke.emplace(*density);
-      } catch (const std::invalid_argument& e) {
-        throw Error(std::string("preview_writer: ") + e.what());
-      }
+    try {
+      if (auto density = find_field(fields, m_settings.density_field)) smoke.emplace(*density);
+      if (auto phi = find_field(fields, m_settings.water_field)) water.emplace(*phi);
+    } catch (const std::invalid_argument& e) {
+      throw Error(std::string("preview_writer: ") + e.what());
     }
   }
   const double sigma = m_settings.absorption;
   const double step = smoke ? m_settings.step_voxels * smoke->dx() : 0.0;
+  const double water_step =
+      water ? std::min(m_settings.step_voxels, kMaxWaterStepVoxels) * water->dx() : 0.0;
   const double max_depth =
       sigma > 0.0 ? kOpaqueOpticalDepth / sigma : std::numeric_limits<double>::infinity();
   const double hit_range =
@@ -72,7 +94,14 @@ RgbImage PreviewRenderer::render(const sdk::FrameView& frame) const {
           // Lambert with a headlight (light along the view ray), two-sided.
           const double lambert = std::abs(hit.normal.dot(ray.direction));
           behind = s.shell_color * (s.ambient + (1.0 - s.ambient) * lambert);
-          smoke_end = hit.distance;  // smoke behind the shell stays hidden
+          smoke_end = hit.distance;  // smoke and water behind the shell stay hidden
+        }
+      }
+      if (water) {
+        const WaterHit hit = water->first_hit(ray.origin, ray.direction, smoke_end, water_step);
+        if (hit.hit()) {
+          behind = water_shade(s, hit.normal, ray.direction);  // in front of any shell
+          smoke_end = hit.distance;
         }
       }
       double transmittance = 1.0;

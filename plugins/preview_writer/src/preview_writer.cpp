@@ -35,8 +35,9 @@ sdk::Schema PreviewWriter::schema() {
   const PreviewSettings d;
   return Schema::object(
              "a PNG preview per frame, <folder>/<scene>_<frame>.png: smoke density ray-marched "
-             "with Beer-Lambert absorption, shells as shaded opaque triangles that hide the "
-             "smoke behind them")
+             "with Beer-Lambert absorption, the water surface (level set phi = 0) ray-cast and "
+             "shaded, shells as shaded opaque triangles that hide the smoke and water behind "
+             "them")
       .field("folder", Schema::string("previews").doc("sub-folder of the run's output folder"))
       .field("every", Schema::integer(1).min(1).doc("write every n-th frame (frame 0, n, 2n, ...)"))
       .field("camera",
@@ -76,7 +77,16 @@ sdk::Schema PreviewWriter::schema() {
       .field("ambient", Schema::number(d.ambient).min(0.0).max(1.0).doc(
                             "shade of a shell seen edge-on, as a fraction of its colour"))
       .field("density_field",
-             Schema::string(d.density_field).doc("name of the fluid field drawn as smoke"));
+             Schema::string(d.density_field).doc("name of the fluid field drawn as smoke"))
+      .field("water_color", colour(d.water_color.x(), d.water_color.y(), d.water_color.z(),
+                                   "colour of the water surface facing the camera"))
+      .field("water_rim_color",
+             colour(d.water_rim_color.x(), d.water_rim_color.y(), d.water_rim_color.z(),
+                    "colour the water surface turns to where it is seen edge-on (Fresnel)"))
+      .field("water_field",
+             Schema::string(d.water_field)
+                 .doc("name of the fluid's level set field (phi <= 0 water) drawn as a surface; "
+                      "marched with step min(step_voxels, 0.5) grid spacings"));
 }
 
 PreviewSettings preview_settings_from_json(const nlohmann::json& params) {
@@ -94,8 +104,12 @@ PreviewSettings preview_settings_from_json(const nlohmann::json& params) {
   if (params.contains("background_color"))
     s.background_color = read_colour(params, "background_color");
   if (params.contains("shell_color")) s.shell_color = read_colour(params, "shell_color");
+  if (params.contains("water_color")) s.water_color = read_colour(params, "water_color");
+  if (params.contains("water_rim_color"))
+    s.water_rim_color = read_colour(params, "water_rim_color");
   s.ambient = params.value("ambient", s.ambient);
   s.density_field = params.value("density_field", s.density_field);
+  s.water_field = params.value("water_field", s.water_field);
   if (!(s.absorption >= 0.0)) throw ConfigError("/absorption", "must be >= 0");
   if (!(s.step_voxels > 0.0)) throw ConfigError("/step_voxels", "must be > 0");
   try {

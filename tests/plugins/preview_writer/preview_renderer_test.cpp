@@ -1,5 +1,6 @@
 // preview_writer: the renderer against known answers — Beer–Lambert through a slab, the
-// march's step error bound, shells hiding and attenuated by smoke, shells-only frames.
+// march's step error bound, shells hiding and attenuated by smoke, shells-only frames, the
+// water ball shaded and composited with shells by depth.
 
 #include "shellflow/preview_writer/preview_renderer.hpp"
 
@@ -11,6 +12,7 @@
 #include "preview_fixture.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/preview_writer/smoke_volume.hpp"
+#include "shellflow/preview_writer/water_surface.hpp"
 
 namespace shellflow::preview_writer {
 namespace {
@@ -165,6 +167,96 @@ TEST(PreviewRenderer, ShellsOnlyFrameRendersShadedShells) {
   // Corners: background.
   expect_pixel(image, 0, 0, s.background_color, kQuantisation);
   expect_pixel(image, image.width - 1, image.height - 1, s.background_color, kQuantisation);
+}
+
+/// The slab camera with a bluish water, distinct from the shell and the background.
+PreviewSettings water_settings() {
+  PreviewSettings s = slab_settings();
+  s.water_color = {0.1, 0.3, 0.7};
+  s.water_rim_color = {0.9, 0.9, 1.0};
+  return s;
+}
+
+/// The water's shade where pixel (x, y)'s ray meets the ball (WaterSurface is tested on
+/// its own, water_surface_test.cpp): what the renderer must put there with nothing in
+/// front.
+Eigen::Vector3d water_pixel(const PreviewRenderer& renderer, const SyntheticFluid& fluid, int x,
+                            int y) {
+  const Ray ray = renderer.camera().pixel_ray(x, y);
+  const WaterSurface water(fluid.fields()[0]);
+  const WaterHit hit = water.first_hit(ray.origin, ray.direction, 1e9, 0.5 * kWaterDx);
+  EXPECT_TRUE(hit.hit()) << "pixel (" << x << ", " << y << ") misses the ball";
+  return water_shade(renderer.settings(), hit.normal, ray.direction);
+}
+
+// The ball (radius 0.5 at 3 m) spans atan(0.5 / √(9 − 0.25)) = 0.169 in tan of the view
+// angle; a pixel is 2 tan(15°)/21 = 0.0255 of it: pixels up to 6 from the centre see the
+// ball, 7 and more pass it.
+constexpr int kBallPixels = 6;
+
+TEST(PreviewRenderer, WaterBallIsShadedWaterOnTheBackground) {
+  SyntheticFluid fluid;
+  add_water_ball(fluid);
+  const PreviewSettings s = water_settings();
+  const PreviewRenderer renderer(s);
+  const RgbImage image = renderer.render({0, 0.0, {}, &fluid});
+  // The centre pixel looks along the axis at the ball's pole: normal = view direction
+  // (water_surface_test), cos θ = 1, F = F0 = 0.02: (1 − F0) · water colour + F0 · rim.
+  EXPECT_NEAR(water_fresnel(1.0), 0.02, 1e-15);
+  expect_pixel(image, kCentreX, kCentreY, 0.98 * s.water_color + 0.02 * s.water_rim_color,
+               kQuantisation);
+  // Across the ball: the water's shade of each ray's hit, bluish.
+  for (int dx = -kBallPixels; dx <= kBallPixels; ++dx) {
+    expect_pixel(image, kCentreX + dx, kCentreY,
+                 water_pixel(renderer, fluid, kCentreX + dx, kCentreY), kQuantisation);
+    const Eigen::Vector3i p = image.at(kCentreX + dx, kCentreY);
+    EXPECT_GT(p[2], p[0] + 60) << "pixel " << kCentreX + dx << " is not water-blue";
+  }
+  // Beside the ball and in the corners: the background.
+  for (int x : {kCentreX - kBallPixels - 1, kCentreX + kBallPixels + 1, 0, image.width - 1})
+    expect_pixel(image, x, kCentreY, s.background_color, kQuantisation);
+  expect_pixel(image, kCentreX, kCentreY - kBallPixels - 1, s.background_color, kQuantisation);
+  expect_pixel(image, 0, 0, s.background_color, kQuantisation);
+}
+
+TEST(PreviewRenderer, ShellInFrontHidesTheWater) {
+  SyntheticFluid fluid;
+  add_water_ball(fluid);
+  const PreviewSettings s = water_settings();
+  const PreviewRenderer renderer(s);
+  // A plate of half-side 0.1 at z = 1, 2 m from the eye: it covers tan 0.05, the pixels
+  // within 1 of the centre; the water is behind it there and must not show.
+  const std::vector<sdk::ShellSurface> shells{square_shell(1.0, 0.1)};
+  const RgbImage image = renderer.render({0, 0.0, shells, &fluid});
+  for (int dx = -1; dx <= 1; ++dx) {
+    const Ray ray = renderer.camera().pixel_ray(kCentreX + dx, kCentreY);
+    const double lambert = std::abs(ray.direction.z());  // the plate's normal is ±z
+    expect_pixel(image, kCentreX + dx, kCentreY,
+                 s.shell_color * (s.ambient + (1.0 - s.ambient) * lambert), kQuantisation);
+  }
+  // Beside the plate (3 pixels out: x = 0.15 at the plate) the ball shows as before.
+  expect_pixel(image, kCentreX + 3, kCentreY, water_pixel(renderer, fluid, kCentreX + 3, kCentreY),
+               kQuantisation);
+}
+
+TEST(PreviewRenderer, WaterInFrontHidesTheShellBehindIt) {
+  SyntheticFluid fluid;
+  add_water_ball(fluid);
+  const PreviewSettings s = water_settings();
+  const PreviewRenderer renderer(s);
+  // A plate of half-side 0.75 at z = -0.7, behind the ball (and outside its band): the
+  // ball in front of it shows, the plate only around the ball.
+  const std::vector<sdk::ShellSurface> shells{square_shell(-0.7, 0.75)};
+  const RgbImage image = renderer.render({0, 0.0, shells, &fluid});
+  expect_pixel(image, kCentreX, kCentreY, 0.98 * s.water_color + 0.02 * s.water_rim_color,
+               kQuantisation);
+  expect_pixel(image, kCentreX + 4, kCentreY, water_pixel(renderer, fluid, kCentreX + 4, kCentreY),
+               kQuantisation);
+  // 7 pixels out the ray passes the ball and meets the plate at x = 3.7 · 0.179 = 0.66.
+  const Ray ray = renderer.camera().pixel_ray(kCentreX + kBallPixels + 1, kCentreY);
+  const double lambert = std::abs(ray.direction.z());
+  expect_pixel(image, kCentreX + kBallPixels + 1, kCentreY,
+               s.shell_color * (s.ambient + (1.0 - s.ambient) * lambert), kQuantisation);
 }
 
 TEST(PreviewRenderer, EmptyFrameIsBackground) {

@@ -1,8 +1,10 @@
 // Preview rendering cost: a 480 x 360 frame of a 40 x 60 x 40 smoke plume with a plate
-// (2 triangles) in front, and with a 20K-triangle sphere.
+// (2 triangles) in front, and with a 20K-triangle sphere; the same frame of water (a pool
+// and a falling ball, 41 x 61 x 41 nodes) with the plate.
 
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -59,6 +61,28 @@ void BM_PreviewPlumeWithSphere(benchmark::State& state) {
   state.counters["triangles"] = static_cast<double>(mesh.triangles.rows());
 }
 BENCHMARK(BM_PreviewPlumeWithSphere)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+/// Water: a pool below y = 0.5 and a ball of radius 0.4 at y = 1.5, on the plume's grid
+/// as nodes, φ clamped to ±3 dx.
+void add_pool_and_ball(writer_testing::SyntheticFluid& fluid) {
+  const double dx = 0.05;
+  auto& phi = fluid.add("phi", sdk::FieldView::Location::Node, Eigen::Vector3d(-1.0, 0.0, -1.0), dx,
+                        {41, 61, 41}, 1);
+  phi.fill(0, [&](const Eigen::Vector3d& x) {
+    const double pool = x.y() - 0.5;
+    const double ball = (x - Eigen::Vector3d(0.0, 1.5, 0.0)).norm() - 0.4;
+    return std::clamp(std::min(pool, ball), -3.0 * dx, 3.0 * dx);
+  });
+}
+
+void BM_PreviewWaterWithPlate(benchmark::State& state) {
+  writer_testing::SyntheticFluid fluid;
+  add_pool_and_ball(fluid);
+  std::vector<sdk::ShellSurface> shells{preview_writer::testing::square_shell(0.6, 0.35)};
+  const preview_writer::PreviewRenderer renderer(camera());
+  for (auto _ : state) benchmark::DoNotOptimize(renderer.render({0, 0.0, shells, &fluid}));
+}
+BENCHMARK(BM_PreviewWaterWithPlate)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -113,6 +113,33 @@ TEST_F(PreviewWriterTest, ShellsOnlyFrameWritesAnImage) {
   stbi_image_free(pixels);
 }
 
+TEST_F(PreviewWriterTest, WaterParamsReachTheRendererAndTheImage) {
+  auto params = slab_params(1);
+  params["water_color"] = {0.2, 0.4, 0.6};
+  params["water_rim_color"] = {1.0, 1.0, 1.0};
+  params["water_field"] = "surface_phi";
+  PreviewWriter writer(params, sdk::Context{});
+  const PreviewSettings& s = writer.renderer().settings();
+  EXPECT_EQ(s.water_color, Eigen::Vector3d(0.2, 0.4, 0.6));
+  EXPECT_EQ(s.water_rim_color, Eigen::Vector3d(1.0, 1.0, 1.0));
+  EXPECT_EQ(s.water_field, "surface_phi");
+  // The ball under the configured field name: the centre pixel is the water's shade at
+  // normal incidence, (1 − F0) water + F0 rim with F0 = 0.02 (preview_renderer_test).
+  SyntheticFluid fluid;
+  add_water_ball(fluid);
+  SyntheticFluid renamed;
+  const auto& ball = fluid.field("phi");
+  renamed.add("surface_phi", ball.location, ball.origin, ball.dx, ball.dims, 1).data[0] =
+      ball.data[0];
+  const RgbImage image = writer.renderer().render({0, 0.0, {}, &renamed});
+  const Eigen::Vector3d expected = 0.98 * s.water_color + 0.02 * s.water_rim_color;
+  for (int c = 0; c < 3; ++c)
+    EXPECT_NEAR(image.at(kCentreX, kCentreY)[c], 255.0 * expected[c], kQuantisation);
+  // Under the default name "phi" nothing is drawn with this configuration.
+  EXPECT_EQ(writer.renderer().render({0, 0.0, {}, &fluid}).at(kCentreX, kCentreY),
+            Eigen::Vector3i(255, 128, 64));  // round(255 · (1, 0.5, 0.25)): background
+}
+
 TEST_F(PreviewWriterTest, BadCameraIsAConfigErrorNamingIt) {
   auto params = slab_params(1);
   params["camera"]["up"] = {0.0, 0.0, -2.0};  // parallel to the view direction
@@ -129,6 +156,14 @@ TEST_F(PreviewWriterTest, BadCameraIsAConfigErrorNamingIt) {
     FAIL() << "a colour component above 1 was accepted";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.json_path(), "/smoke_color");
+  }
+  params = slab_params(1);
+  params["water_rim_color"] = {0.5, -0.1, 0.5};
+  try {
+    PreviewWriter writer(params, sdk::Context{});
+    FAIL() << "a negative colour component was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.json_path(), "/water_rim_color");
   }
   EXPECT_EQ(preview_file_name("plume", 7), "plume_0007.png");
 }

@@ -1,11 +1,19 @@
 #pragma once
-// PreviewRenderer: one frame as an image, the way the paper's renderer shows smoke and
-// shells (Guendelman et al. 2005, §7: smoke behind a shell stays hidden):
+// PreviewRenderer: one frame as an image, the way the paper's renderer shows smoke, water
+// and shells (Guendelman et al. 2005, §7: smoke and water behind a shell stay hidden):
 //   - each pixel's ray first finds the nearest shell triangle (ShellScene);
-//   - the smoke density is ray-marched front to back from the camera up to that hit (or
-//     through the whole volume), Beer–Lambert absorption: T = exp(−σ ∫ρ ds);
-//   - pixel = smoke_colour (1 − T) + T · behind, where behind is the shell's shade
-//     (Lambert with a headlight, two-sided: colour (a + (1 − a) |n·d|)) or the background.
+//   - the water surface, the level set φ = 0 (WaterSurface), is searched from the camera
+//     up to that hit (or through the whole grid): water behind the shell stays hidden, and
+//     water in front of it hides it;
+//   - the smoke density is ray-marched front to back from the camera up to the nearer of
+//     the two hits (or through the whole volume), Beer–Lambert absorption:
+//     T = exp(−σ ∫ρ ds);
+//   - pixel = smoke_colour (1 − T) + T · behind, where behind is the water's or the
+//     shell's shade or the background. Shells: Lambert with a headlight, two-sided,
+//     colour (a + (1 − a) |n·d|). Water: the same Lambert with water_colour, mixed
+//     towards water_rim_colour by Schlick's Fresnel term F = F0 + (1 − F0)(1 − |n·d|)^5
+//     (Schlick 1994; F0 = 0.02 for water, ((1.33 − 1)/(1.33 + 1))²): (1 − F) · lambert + F ·
+//     rim, a brighter rim where the surface turns away from the camera.
 // With one smoke colour, front-to-back compositing Σ T_i α_i c = c (1 − Π(1 − α_i)),
 // so the optical depth alone decides the pixel. Colours are written linearly (no gamma).
 
@@ -32,16 +40,26 @@ struct PreviewSettings {
   Eigen::Vector3d shell_color{0.85, 0.55, 0.30};
   double ambient = 0.2;  ///< shade of a shell seen edge-on, as a fraction of its colour
   std::string density_field = "density";
+  Eigen::Vector3d water_color{0.10, 0.35, 0.65};
+  Eigen::Vector3d water_rim_color{0.80, 0.90, 1.00};  ///< what grazing rays reflect
+  std::string water_field = "phi";                    ///< level set, φ ≤ 0 water
 };
+
+/// Schlick's Fresnel term for water seen at |n·d| = cos_theta (see above).
+double water_fresnel(double cos_theta);
+/// The water's shade for unit normal n seen along unit ray direction d (see above).
+Eigen::Vector3d water_shade(const PreviewSettings& settings, const Eigen::Vector3d& normal,
+                            const Eigen::Vector3d& direction);
 
 class PreviewRenderer {
  public:
   /// @throw std::invalid_argument for a bad camera (see Camera).
   explicit PreviewRenderer(const PreviewSettings& settings);
 
-  /// Renders `frame` (shells only when it has no fluid or no density field; smoke only
-  /// when it has no shells). Rows in parallel (OpenMP).
-  /// @throw Error when the density field is not a scalar field.
+  /// Renders `frame` (shells only when it has no fluid or neither a density nor a level
+  /// set field; the fluid only when it has no shells). The level set is marched with step
+  /// min(step_voxels, 1/2) dx. Rows in parallel (OpenMP).
+  /// @throw Error when the density or the level set field is not a scalar field.
   RgbImage render(const sdk::FrameView& frame) const;
 
   const PreviewSettings& settings() const { return m_settings; }

@@ -1,6 +1,7 @@
 #pragma once
 // The "preview_writer" writer: `<out_dir>/<folder>/<scene>_<frame:04d>.png` per written
-// frame, rendered by PreviewRenderer (camera, smoke absorption and colours from params).
+// frame, rendered by PreviewRenderer (camera, smoke absorption, colours and field names
+// from params).
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
