@@ -357,7 +357,7 @@ void GridFluid::coupling_forces(double dt, sdk::ShellSet shells,
     if (m_liquid && two_way)
       spdlog::warn(
           "grid_fluid: water pushes no shell yet (the §5.1 coupling pressure with a "
-          "free surface is not implemented): two-way shells move as boundaries only");
+          "free surface comes with two-way water): two-way shells move as boundaries only");
     else
       spdlog::info(two_way ? "grid_fluid: two-way coupling (§5.1 coupling pressure every step)"
                            : "grid_fluid: one-way coupling (no shell receives fluid forces)");

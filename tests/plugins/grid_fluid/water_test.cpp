@@ -47,6 +47,21 @@ void run_steps(GridFluid& f, int steps, double dt, sdk::ShellSet shells,
   }
 }
 
+/// Runs static shells for `duration` seconds at the CFL step (0.9); returns the steps taken.
+int run_for(GridFluid& f, double duration, sdk::ShellSet shells,
+            const std::vector<sdk::Positions>& v_eff) {
+  double t = 0.0;
+  int steps = 0;
+  while (t < duration - 1e-12) {
+    const double dt = std::min(f.stable_dt(0.9), duration - t);
+    f.advect(t, dt, shells, shells);
+    f.project(dt, shells, v_eff);
+    t += dt;
+    ++steps;
+  }
+  return steps;
+}
+
 TEST(Water, PoolAtRestInAClosedTankStaysAtRest) {
   // 16^3, pool up to 0.41 (between node planes), 200 steps of 0.01 s, PCG to 1e-10.
   auto fluid = test::make_fluid(
@@ -118,15 +133,7 @@ TEST(Water, ThinWallDamKeepsTheDrySideDry) {
   const auto plate = dam_plate(plate_x);
   const std::vector<sdk::ShellSurface> shells{plate};
   const std::vector<sdk::Positions> v_eff{plate.velocities};
-  double t = 0.0;
-  int steps = 0;
-  while (t < 2.0 - 1e-12) {
-    const double dt = std::min(fluid->stable_dt(0.9), 2.0 - t);
-    fluid->advect(t, dt, shells, shells);
-    fluid->project(dt, shells, v_eff);
-    t += dt;
-    ++steps;
-  }
+  const int steps = run_for(*fluid, 2.0, shells, v_eff);
   EXPECT_EQ(wet_nodes_beyond(*fluid, plate_x), 0);
   EXPECT_GT(fluid->liquid()->level_set().liquid_nodes(), 0);
   EXPECT_GT(steps, 20);
@@ -141,13 +148,7 @@ TEST(Water, DISABLED_ThinWallDamKeepsTheWetSideLevel) {
   const auto plate = dam_plate(0.5 + dx / 3.0);
   const std::vector<sdk::ShellSurface> shells{plate};
   const std::vector<sdk::Positions> v_eff{plate.velocities};
-  double t = 0.0;
-  while (t < 2.0 - 1e-12) {
-    const double dt = std::min(fluid->stable_dt(0.9), 2.0 - t);
-    fluid->advect(t, dt, shells, shells);
-    fluid->project(dt, shells, v_eff);
-    t += dt;
-  }
+  run_for(*fluid, 2.0, shells, v_eff);
   // Wet side level: the initial 0.8 within Δx/4 (the bound).
   EXPECT_NEAR(surface_height(*fluid, 0.25, 0.5), 0.8, 0.25 * dx);
 }
