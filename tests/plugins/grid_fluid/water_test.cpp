@@ -90,10 +90,7 @@ TEST(Water, FirstOrderSurfacePressureAlsoHoldsStillWater) {
   EXPECT_LE(max_face_speed(*fluid), 1e-8);  // the issue's bound, as above
 }
 
-// Disabled: fails today (max|u| 0.26 m/s, level 0.22Δx low after 200 steps). Where the
-// plate pierces the surface the reinitialisation against the shell and the cell-centred
-// φ of the pressure disagree about which cells are water; see the water core issue's note.
-TEST(Water, DISABLED_PoolAtRestWithAStaticTiltedPlatePiercingTheSurface) {
+TEST(Water, PoolAtRestWithAStaticTiltedPlatePiercingTheSurface) {
   auto fluid = test::make_fluid(
       water_params(16, {{"initial", {{{"type", "pool"}, {"height", 0.41}}}}}, 1e-10));
   const auto plate =
@@ -139,9 +136,7 @@ TEST(Water, ThinWallDamKeepsTheDrySideDry) {
   EXPECT_GT(steps, 20);
 }
 
-// Disabled: fails today (the wet side's level ends 0.9Δx low after 2 s, the issue allows
-// Δx/4): the level set loses water along the shell; see the water core issue's note.
-TEST(Water, DISABLED_ThinWallDamKeepsTheWetSideLevel) {
+TEST(Water, ThinWallDamKeepsTheWetSideLevel) {
   auto fluid = test::make_fluid(water_params(
       16, {{"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.52, 0.8, 2}}}}}}));
   const double dx = fluid->grid().dx();
@@ -202,29 +197,63 @@ TEST(FastMarching, ReinitialisesAStretchedSphereToItsDistance) {
 }
 
 TEST(FastMarching, NeverMarchesAcrossAShell) {
-  // Water in x < 0.3; a plate at x = 0.5 + Δx/3. Beyond the plate the distance may not come
-  // from the water through the plate: nodes there keep the full band.
+  // Water in x < 0.3; a plate at x = 0.5 + Δx/3 with a dry side beyond it (φ = the band,
+  // as a dry side holds). No distance may come from the water through the plate: nodes
+  // beyond it keep the full band.
   const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i(16, 16, 16));
+  const double plate_x = 0.5 + grid.dx() / 3.0;
+  const double width = 8.0 * grid.dx();
   std::vector<double> phi(grid.size(Location::Node));
-  for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i)
-    phi[i] = grid.position(Location::Node, i).x() - 0.3;
-  const auto plate = dam_plate(0.5 + grid.dx() / 3.0);
+  for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i) {
+    const double x = grid.position(Location::Node, i).x();
+    phi[i] = x > plate_x ? width : x - 0.3;
+  }
+  const auto plate = dam_plate(plate_x);
   const std::vector<sdk::ShellSurface> shells{plate};
   const ShellGeometry geometry(shells, 1e-3 * grid.dx());
   geometry::ShellBand band(grid);
   band.add(geometry::TriangleMesh(plate), 2.0 * grid.dx());
   FastMarching fmm(grid);
-  const double width = 8.0 * grid.dx();
   fmm.reinitialize(phi, width, geometry, &band);
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i) {
     const double x = grid.position(Location::Node, i).x();
-    if (x > 0.5 + grid.dx() / 3.0) {
+    if (x > plate_x) {
       EXPECT_DOUBLE_EQ(phi[i], width) << "node at x = " << x;
     } else if (x < 0.45) {
       // Plane distance, exact for first-order marching along an axis (round-off bound).
       EXPECT_NEAR(phi[i], x - 0.3, 1e-12) << "node at x = " << x;
     }
   }
+}
+
+TEST(FastMarching, KeepsAStillSurfaceThatAShellPiercesUnchanged) {
+  // A level surface's signed distance is a fixed point of first-order fast marching (the
+  // crossing along the vertical is exact, and so is the march along it). A tilted plate
+  // through the surface hides some of those crossings; held nodes keep the plane there,
+  // so the whole band stays the plane's distance up to round-off. The paper's rule,
+  // min(distance to the shell, |φ|) against the shell, moves it by up to a cell.
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i(16, 16, 16));
+  const Eigen::Vector3d n = Eigen::Vector3d::UnitY();
+  const Eigen::Vector3d on_plane(0.5, 0.41, 0.5);
+  const double width = 6.0 * grid.dx();
+  std::vector<double> phi(grid.size(Location::Node));
+  for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i)
+    phi[i] = std::clamp(n.dot(grid.position(Location::Node, i) - on_plane), -width, width);
+  const auto exact = phi;
+  const auto plate =
+      test::make_plate({0.5, 0.45, 0.52}, Eigen::Vector3d(1.0, 0.3, -0.4).normalized(), 0.6, 7);
+  const std::vector<sdk::ShellSurface> shells{plate};
+  const ShellGeometry geometry(shells, 1e-3 * grid.dx());
+  geometry::ShellBand band(grid);
+  band.add(geometry::TriangleMesh(plate), 2.0 * grid.dx());
+  FastMarching fmm(grid);
+  fmm.reinitialize(phi, width, geometry, &band);
+  int near_plate = 0;
+  for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i) {
+    if (std::abs(exact[i]) < width - grid.dx()) EXPECT_NEAR(phi[i], exact[i], 1e-12) << i;
+    near_plate += std::abs(exact[i]) < grid.dx() && band.contains(Location::Node, i) ? 1 : 0;
+  }
+  EXPECT_GT(near_plate, 10);  // the plate does cross the surface's cells
 }
 
 }  // namespace

@@ -27,6 +27,7 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
     m_hidden.assign(count, 0);
     m_distance.resize(count);
     m_accepted.resize(count);
+    m_held.resize(count);
   }
   for (const std::int64_t i : m_hidden_list) m_hidden[i] = 0;
   m_hidden_list.clear();
@@ -55,7 +56,8 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
       if (m_hidden[i] != 0) m_hidden_list.push_back(i);
   }
 
-  // Interface nodes (see the header), accepted at their initial distance.
+  // Interface nodes (see the header), accepted at their initial distance; nodes next to
+  // a shell are held at no more than their own |φ|.
   std::int64_t interface_nodes = 0;
 #pragma omp parallel for schedule(static) reduction(+ : interface_nodes)
   for (std::int64_t i = 0; i < count; ++i) {
@@ -64,24 +66,15 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
     const bool water = p <= 0.0;
     double inverse_sum = 0.0;
     bool found = false;
+    const bool held = m_hidden[i] != 0;
     for (int a = 0; a < 3; ++a) {
       double d = kInf;
       for (int side = 0; side < 2; ++side) {
         const int c = ijk[a] + (side == 0 ? -1 : 1);
         if (c < 0 || c >= n[a]) continue;
         const std::int64_t j = i + (side == 0 ? -stride[a] : stride[a]);
-        if ((m_hidden[i] >> (2 * a + side) & 1u) != 0) {
-          // φ > 0: directions to hidden neighbours are ignored; φ <= 0 with air behind the
-          // shell: the surface lies against the shell, at most |φ| away.
-          if (!water || phi[j] <= 0.0) continue;
-          const Eigen::Vector3d x = m_grid.position(Location::Node, ijk);
-          const Eigen::Vector3d y = m_grid.position(Location::Node, j);
-          const auto hit = shells.first_hit(x, y);
-          const double to_solid = hit ? hit->s * dx : dx;
-          d = std::min(d, std::min(to_solid, std::abs(p)));
-        } else if ((phi[j] <= 0.0) != water) {
-          d = std::min(d, dx * p / (p - phi[j]));  // same sign as p − φ_j: positive
-        }
+        if ((m_hidden[i] >> (2 * a + side) & 1u) != 0) continue;  // no crossing across it
+        if ((phi[j] <= 0.0) != water) d = std::min(d, dx * p / (p - phi[j]));  // > 0
       }
       if (d < kInf) {
         found = true;
@@ -89,8 +82,11 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
         inverse_sum += 1.0 / (d * d);
       }
     }
+    double dist = found ? 1.0 / std::sqrt(inverse_sum) : kInf;
+    if (held) dist = std::min(dist, std::abs(p));
     m_accepted[i] = found ? 1 : 0;
-    m_distance[i] = found ? 1.0 / std::sqrt(inverse_sum) : kInf;
+    m_held[i] = (!found && held) ? 1 : 0;
+    m_distance[i] = dist;
     interface_nodes += found ? 1 : 0;
   }
   stats.interface_nodes = interface_nodes;
@@ -143,6 +139,8 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
         f(i + (side == 0 ? -stride[ax] : stride[ax]));
       }
   };
+  for (const std::int64_t i : m_hidden_list)
+    if (m_held[i] != 0) heap.push({m_distance[i], i});  // tentative: the march may lower it
   for (std::int64_t i = 0; i < count; ++i)
     if (m_accepted[i] != 0)
       neighbours(i, [&](std::int64_t j) {
