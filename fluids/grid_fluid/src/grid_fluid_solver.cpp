@@ -535,6 +535,7 @@ void GridFluid::report(sdk::Metrics& out) const {
     out.set("water_volume", volume);
     out.set("water_volume_change", volume - m_liquid->initial_volume());
     out.set("liquid_cells", static_cast<double>(p.liquid_cells));
+    out.set("pressure_solve_cells", static_cast<double>(p.solve_cells));
     out.set("level_set_invalid_nodes", static_cast<double>(w.invalid_nodes));
     out.set("fmm_interface_nodes", static_cast<double>(w.reinitialization.interface_nodes));
     out.set("fmm_marched_nodes", static_cast<double>(w.reinitialization.marched_nodes));

@@ -10,15 +10,17 @@ int FluidRegions::enclosed_count() const {
   return n;
 }
 
-linear::ConstantNullSpace FluidRegions::null_space() const {
+linear::ConstantNullSpace FluidRegions::null_space(std::span<const std::int64_t> unknowns) const {
   std::vector<int> group_of_region(count(), -1);
   int groups = 0;
   for (int r = 0; r < count(); ++r)
     if (enclosed[r] != 0) group_of_region[r] = groups++;
   if (groups == 0) return {};
-  std::vector<int> group(region.size());
-  for (size_t c = 0; c < group.size(); ++c)
-    group[c] = region[c] < 0 ? -1 : group_of_region[region[c]];
+  std::vector<int> group(unknowns.empty() ? region.size() : unknowns.size());
+  for (size_t u = 0; u < group.size(); ++u) {
+    const int r = region[unknowns.empty() ? u : unknowns[u]];
+    group[u] = r < 0 ? -1 : group_of_region[r];
+  }
   return linear::ConstantNullSpace(std::move(group), groups);
 }
 

@@ -17,7 +17,6 @@ PressureProjection::PressureProjection(const grid::UniformGrid& grid, Projection
   const std::int64_t cells = m_grid.size(Location::Cell);
   for (int a = 0; a < 3; ++a) m_neumann[a].assign(m_grid.size(face_location(a)), 0);
   m_scaled.assign(cells, 0.0);
-  m_laplacian = linear::GridLaplacian(m_grid.cells());
 }
 
 std::int64_t PressureProjection::neighbour(const Eigen::Vector3i& c, int axis, int side) const {
@@ -120,62 +119,96 @@ double PressureProjection::inverse_theta(std::int64_t liquid, std::int64_t air) 
   return 1.0 / std::clamp(theta, FreeSurface::kMinTheta, 1.0);
 }
 
+void PressureProjection::find_solve_box() {
+  // Water: the unknowns are the liquid cells, so the solve runs on their bounding box
+  // (cells outside are air, p' = 0); smoke: the whole grid.
+  const Eigen::Vector3i n = m_grid.cells();
+  Eigen::Vector3i lo = Eigen::Vector3i::Zero(), hi = n;
+  if (m_surface != nullptr) {
+    lo = n;
+    hi = Eigen::Vector3i::Zero();
+    for (int r = 0; r < m_regions.count(); ++r)
+      for (std::int64_t s = m_regions.start[r]; s < m_regions.start[r + 1]; ++s) {
+        const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, m_regions.cells[s]);
+        lo = lo.cwiseMin(c);
+        hi = hi.cwiseMax(c + Eigen::Vector3i::Ones());
+      }
+    if ((hi.array() <= lo.array()).any()) {  // no liquid: a one-cell box of air
+      lo.setZero();
+      hi.setOnes();
+    }
+  }
+  m_box_lo = lo;
+  const Eigen::Vector3i size = hi - lo;
+  if (m_laplacian.cells() != size) m_laplacian = linear::GridLaplacian(size);
+  m_box_cells.resize(size.prod());
+#pragma omp parallel for collapse(2) schedule(static)
+  for (int k = 0; k < size.z(); ++k)
+    for (int j = 0; j < size.y(); ++j)
+      for (int i = 0; i < size.x(); ++i)
+        m_box_cells[i + std::int64_t(size.x()) * (j + std::int64_t(size.y()) * k)] =
+            m_grid.index(Location::Cell, Eigen::Vector3i(i, j, k) + lo);
+}
+
 void PressureProjection::build_operator() {
+  find_solve_box();
+  const Eigen::Vector3i n = m_grid.cells();
+  const Eigen::Vector3i box = m_laplacian.cells();
   // Face weights: 1 where the face is open (interior or Dirichlet domain face), 0 where
-  // it is Neumann (shell, wall, inflow) — the same face layout as the MAC grid.
+  // it is Neumann (shell, wall, inflow) or touches an air cell — the MAC face layout,
+  // restricted to the box (a box face inside the grid has air beyond it: weight 0).
   for (int a = 0; a < 3; ++a) {
     const auto& flags = m_neumann[a];
     auto& w = m_laplacian.weights(a);
-    const std::int64_t count = static_cast<std::int64_t>(w.size());
-#pragma omp parallel for schedule(static)
-    for (std::int64_t f = 0; f < count; ++f) w[f] = flags[f] != 0 ? 0.0 : 1.0;
+    const Eigen::Vector3i faces = m_laplacian.face_counts(a);
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int k = 0; k < faces.z(); ++k)
+      for (int j = 0; j < faces.y(); ++j)
+        for (int i = 0; i < faces.x(); ++i) {
+          Eigen::Vector3i c = Eigen::Vector3i(i, j, k) + m_box_lo;  // the face's + cell
+          const std::int64_t local = i + std::int64_t(faces.x()) * (j + std::int64_t(faces.y()) * k);
+          double weight = flags[m_grid.index(face_location(a), c)] != 0 ? 0.0 : 1.0;
+          if (weight != 0.0 && m_surface != nullptr) {
+            const bool plus_air = c[a] < n[a] && air(m_grid.index(Location::Cell, c));
+            c[a] -= 1;
+            const bool minus_air = c[a] >= 0 && air(m_grid.index(Location::Cell, c));
+            if (plus_air || minus_air) weight = 0.0;
+          }
+          w[local] = weight;
+        }
   }
   auto& dirichlet = m_laplacian.dirichlet();
   if (m_surface == nullptr) {
     dirichlet.clear();
   } else {
     // §4.3 air cells: a liquid cell's open face to an air cell becomes its Dirichlet
-    // conductance 1/θ (ghost fluid); then every face touching air leaves the operator.
-    const Eigen::Vector3i n = m_grid.cells();
-    dirichlet.assign(m_grid.size(Location::Cell), 0.0);
-#pragma omp parallel for collapse(2) schedule(static)
-    for (int k = 0; k < n.z(); ++k)
-      for (int j = 0; j < n.y(); ++j)
-        for (int i = 0; i < n.x(); ++i) {
-          const Eigen::Vector3i c(i, j, k);
-          const std::int64_t cell = m_grid.index(Location::Cell, c);
-          if (air(cell)) continue;
-          for (int a = 0; a < 3; ++a)
-            for (int side = 0; side < 2; ++side) {
-              const std::int64_t nb = neighbour(c, a, side);
-              if (nb < 0 || !air(nb) || m_neumann[a][face_of(c, a, side)] != 0) continue;
-              dirichlet[cell] += inverse_theta(cell, nb);
-            }
+    // conductance 1/θ (ghost fluid).
+    const std::int64_t unknowns = m_laplacian.size();
+    dirichlet.assign(unknowns, 0.0);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t u = 0; u < unknowns; ++u) {
+      const std::int64_t cell = m_box_cells[u];
+      if (air(cell)) continue;
+      const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
+      for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+          const std::int64_t nb = neighbour(c, a, side);
+          if (nb < 0 || !air(nb) || m_neumann[a][face_of(c, a, side)] != 0) continue;
+          dirichlet[u] += inverse_theta(cell, nb);
         }
-    for (int a = 0; a < 3; ++a) {
-      auto& w = m_laplacian.weights(a);
-      const Eigen::Vector3i faces = m_grid.counts(face_location(a));
-#pragma omp parallel for collapse(2) schedule(static)
-      for (int k = 0; k < faces.z(); ++k)
-        for (int j = 0; j < faces.y(); ++j)
-          for (int i = 0; i < faces.x(); ++i) {
-            Eigen::Vector3i c(i, j, k);  // the face's + cell
-            const std::int64_t f = m_grid.index(face_location(a), c);
-            if (w[f] == 0.0) continue;
-            const bool plus_air = c[a] < n[a] && air(m_grid.index(Location::Cell, c));
-            c[a] -= 1;
-            const bool minus_air = c[a] >= 0 && air(m_grid.index(Location::Cell, c));
-            if (plus_air || minus_air) w[f] = 0.0;
-          }
     }
   }
   // Enclosed regions, numbered 0.. in region order: their constants are the null space.
+  const auto unknown_of = [&](std::int64_t cell) {
+    const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell) - m_box_lo;
+    return static_cast<int>(c.x() + box.x() * (c.y() + box.y() * std::int64_t(c.z())));
+  };
   m_enclosed_count = m_regions.enclosed_count();
   m_first_enclosed_cell.clear();
   for (int r = 0; r < m_regions.count(); ++r)
     if (m_regions.enclosed[r] != 0)
-      m_first_enclosed_cell.push_back(static_cast<int>(m_regions.cells[m_regions.start[r]]));
-  m_null_space = m_regions.null_space();  // empty without a singular region
+      m_first_enclosed_cell.push_back(unknown_of(m_regions.cells[m_regions.start[r]]));
+  m_null_space = m_regions.null_space(m_box_cells);  // empty without a singular region
 
   if (m_settings.solver == PressureSolver::Pcg &&
       m_settings.preconditioner == PressurePreconditioner::Multigrid) {
@@ -186,27 +219,25 @@ void PressureProjection::build_operator() {
       for (const int c : m_first_enclosed_cell)
         m_matrix.coeffRef(c, c) += 1.0;  // fixes the constant; exact for a consistent b
       if (m_surface != nullptr)          // air cells: an identity row, p' = 0 for b = 0
-        for (int c = 0; c < m_laplacian.size(); ++c)
-          if (air(c)) m_matrix.coeffRef(c, c) += 1.0;
+        for (int u = 0; u < m_laplacian.size(); ++u)
+          if (air(m_box_cells[u])) m_matrix.coeffRef(u, u) += 1.0;
     }
   }
 }
 
 void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats& stats) {
   const int n = m_laplacian.size();
-  Eigen::VectorXd b(n);
-  Eigen::Map<Eigen::VectorXd> scaled(m_scaled.data(), n);
-  cell_fluxes(mac, b);
-  b = -b;
-  if (m_surface != nullptr)
-    for (int c = 0; c < n; ++c)
-      if (air(c)) b[c] = 0.0;  // no unknown in the air
-  m_null_space.project(b);     // consistent to round-off after the correction
-  if (b.lpNorm<Eigen::Infinity>() == 0.0) {
-    scaled.setZero();
-    return;
+  Eigen::VectorXd flux;
+  cell_fluxes(mac, flux);
+  Eigen::VectorXd b(n), x(n);
+  for (int u = 0; u < n; ++u) {
+    const std::int64_t cell = m_box_cells[u];
+    b[u] = air(cell) ? 0.0 : -flux[cell];  // no unknown in the air
+    x[u] = m_scaled[cell];
   }
-  Eigen::VectorXd x = scaled;
+  m_null_space.project(b);  // consistent to round-off after the correction
+  std::fill(m_scaled.begin(), m_scaled.end(), 0.0);
+  if (b.lpNorm<Eigen::Infinity>() == 0.0) return;
   linear::SolveStats result;
   if (m_settings.solver == PressureSolver::Cholmod) {
     linear::CholmodSolver direct;
@@ -230,7 +261,7 @@ void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats
   stats.max_region_iterations = std::max(stats.max_region_iterations, result.iterations);
   stats.relative_residual = std::max(stats.relative_residual, result.relative_residual);
   stats.converged = stats.converged && result.converged;
-  scaled = x;
+  for (int u = 0; u < n; ++u) m_scaled[m_box_cells[u]] = x[u];
 }
 
 ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const DomainBoundary& boundary,
@@ -261,6 +292,7 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
   for (const auto e : m_regions.enclosed) stats.enclosed_regions += e;
   correct_compatibility(mac, stats);
   build_operator();
+  stats.solve_cells = m_laplacian.size();
 
   // Solve, update the faces, and measure; a PCG solve whose largest cell divergence is
   // still above tolerance × max|u| (its stopping test bounds the 2-norm against max|u*|)

@@ -33,8 +33,9 @@ struct FluidRegions {
   std::int64_t size(int r) const { return start[r + 1] - start[r]; }
   int enclosed_count() const;
   /// The constants of the enclosed regions (numbered in region order): the null space of
-  /// the pressure operator. Empty when every region is open.
-  linear::ConstantNullSpace null_space() const;
+  /// the pressure operator. Empty when every region is open. Unknown u is cell
+  /// `unknowns[u]` (empty: unknown u is cell u).
+  linear::ConstantNullSpace null_space(std::span<const std::int64_t> unknowns = {}) const;
 };
 
 /// Labels the regions of the cells of `grid` connected through faces whose flag in

@@ -31,7 +31,8 @@
 // 2002; Enright et al. 2003: second order), or at j's centre (θ = 1, first order): it
 // adds 1/θ to i's diagonal (GridLaplacian::dirichlet) and its velocity is corrected by
 // p'_i / θ. Faces between two air cells are left alone (the velocity extrapolation of
-// §4.4 fills them); a liquid region with no face to air is enclosed as above.
+// §4.4 fills them); a liquid region with no face to air is enclosed as above. The solve
+// runs on the liquid's bounding box only, so its cost follows the water.
 
 #include <array>
 #include <cstdint>
@@ -83,6 +84,8 @@ struct ProjectionStats {
   /// max over cells |Σ u·n| / max|u| after projection (= |∇·u| Δx / max|u|).
   double max_relative_divergence = 0.0;
   std::int64_t liquid_cells = 0;  ///< pressure unknowns of a water scene (0 for smoke)
+  /// Cells of the solve: the liquid's bounding box (water), every cell (smoke).
+  std::int64_t solve_cells = 0;
 };
 
 class PressureProjection {
@@ -116,6 +119,8 @@ class PressureProjection {
                     const geometry::ShellBand* band, ProjectionStats& stats);
   /// `shell_faces`: whether any face is closed by a shell (without, one region).
   void correct_compatibility(MacGrid& mac, ProjectionStats& stats);
+  /// The cells the solve runs on (m_box_lo, m_box_cells; sizes m_laplacian).
+  void find_solve_box();
   /// Face weights of the Laplacian (1 − Neumann flag) and the enclosed groups.
   void build_operator();
   /// One solve of A p' = b for the current face velocities into m_scaled (warm start:
@@ -144,7 +149,9 @@ class PressureProjection {
   std::array<std::vector<std::uint8_t>, 3> m_neumann;
   FluidRegions m_regions;
   std::vector<double> m_scaled;  ///< p' = p Δt / Δx, kept as the next initial guess
-  linear::GridLaplacian m_laplacian;
+  linear::GridLaplacian m_laplacian;        ///< on the solve box
+  Eigen::Vector3i m_box_lo = Eigen::Vector3i::Zero();
+  std::vector<std::int64_t> m_box_cells;    ///< grid cell of each unknown (box order)
   linear::ConstantNullSpace m_null_space;  ///< constants of the enclosed regions
   int m_enclosed_count = 0;
   std::vector<int> m_first_enclosed_cell;  ///< per enclosed group (CHOLMOD's pinned cell)
