@@ -1,0 +1,218 @@
+// A kinematic cup (§3, §4.3, §4.4.1; Guendelman et al. 2005): an open cylinder with a bottom
+// holds water while still, none of it below the rim outside the cup, and pours it out
+// when tipped about a horizontal axis through its rim (the water core issue's cup case;
+// the scene is configs/verify/water_kinematic_cup.json). Keeping the water and pouring it
+// fail today and are disabled (--gtest_also_run_disabled_tests): see their notes.
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <numbers>
+
+#include "grid_fluid_test_support.hpp"
+
+namespace shellflow::grid_fluid {
+namespace {
+
+using grid::Location;
+
+// A 1 x 1 x 0.5 m tank at 32 x 32 x 16 cells (Δx = 1/32): the cup is R = 5.4Δx, H = 8.6Δx,
+// its base and axis between node planes; tipped, it stays inside the tank.
+constexpr int kResolution = 32;
+constexpr double kRadius = 0.17;
+constexpr double kHeight = 0.27;
+const Eigen::Vector3d kBase(0.33, 0.26, 0.26);  // centre of the bottom, axis +y
+
+/// The cup's rigid pose: a rotation by `angle` about the z axis through `pivot`.
+struct CupPose {
+  Eigen::Vector3d pivot = kBase + Eigen::Vector3d(kRadius, kHeight, 0.0);  // rim, +x side
+  double angle = 0.0;                                                      // [rad]
+  double rate = 0.0;                                                       // dθ/dt [rad/s]
+
+  Eigen::Matrix3d rotation() const {
+    return Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  }
+  Eigen::Vector3d place(const Eigen::Vector3d& x0) const {
+    return pivot + rotation() * (x0 - pivot);
+  }
+  /// x in the upright cup's frame: (distance from the axis, height above the base).
+  Eigen::Vector2d cup_coordinates(const Eigen::Vector3d& x) const {
+    const Eigen::Vector3d local = pivot + rotation().transpose() * (x - pivot) - kBase;
+    return {std::hypot(local.x(), local.z()), local.y()};
+  }
+};
+
+/// The cup at `pose`, its node velocities those of the rigid motion: ω × (x − pivot).
+sdk::ShellSurface make_cup(const CupPose& pose) {
+  const auto mesh = geometry::make_open_cylinder(kRadius, kHeight, 32, 6, true);
+  const Eigen::Vector3d omega(0.0, 0.0, pose.rate);
+  sdk::ShellSurface s;
+  s.name = "cup";
+  s.positions.resize(mesh.positions.rows(), 3);
+  s.velocities.resize(mesh.positions.rows(), 3);
+  for (Eigen::Index i = 0; i < mesh.positions.rows(); ++i) {
+    const Eigen::Vector3d x = pose.place(kBase + mesh.positions.row(i).transpose());
+    s.positions.row(i) = x.transpose();
+    s.velocities.row(i) = omega.cross(x - pose.pivot).transpose();
+  }
+  s.triangles = std::make_shared<const sdk::Triangles>(mesh.triangles);
+  s.surface_density = Eigen::VectorXd::Ones(mesh.triangles.rows());
+  return s;
+}
+
+nlohmann::json cup_params(nlohmann::json water) {
+  return {{"domain", {{"min", {0.0, 0.0, 0.0}}, {"max", {1.0, 1.0, 0.5}}}},
+          {"resolution", kResolution},
+          {"pressure", {{"tolerance", 1e-6}}},
+          {"water", std::move(water)}};
+}
+
+/// Water inscribed in the upright cup: a box of half-side 0.7 R (inside R/√2) from just
+/// above the bottom to 0.7 H.
+nlohmann::json water_in_the_cup() {
+  const double h = 0.7 * kRadius;
+  return {{"initial",
+           {{{"type", "box"},
+             {"min", {kBase.x() - h, kBase.y() + 0.01, kBase.z() - h}},
+             {"max", {kBase.x() + h, kBase.y() + 0.7 * kHeight, kBase.z() + h}}}}}};
+}
+
+struct WaterCount {
+  int outside_below_rim = 0;  ///< φ <= 0 farther than Δx from the upright cup, below its rim
+  int on_the_floor = 0;       ///< φ <= 0 below the upright cup's base, beyond its radius
+  int in_cup = 0;             ///< φ <= 0 inside the cup at its pose
+  int interior = 0;           ///< of those, farther than Δx from its wall and bottom
+};
+
+WaterCount count_water(const GridFluid& f, const CupPose& pose) {
+  const auto& phi = f.liquid()->level_set().phi();
+  const double dx = f.grid().dx();
+  const CupPose upright{};
+  WaterCount c;
+  for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i) {
+    if (phi[i] > 0.0) continue;
+    const Eigen::Vector3d x = f.grid().position(Location::Node, i);
+    const Eigen::Vector2d still = upright.cup_coordinates(x);
+    const bool below_rim = still.y() < kHeight;
+    if (below_rim && (still.x() > kRadius + dx || still.y() < -dx)) ++c.outside_below_rim;
+    if (still.y() < -dx && still.x() > kRadius + dx) ++c.on_the_floor;
+    const Eigen::Vector2d now = pose.cup_coordinates(x);
+    if (now.x() < kRadius && now.y() > 0.0 && now.y() < kHeight) {
+      ++c.in_cup;
+      if (now.x() < kRadius - dx && now.y() > dx) ++c.interior;
+    }
+  }
+  return c;
+}
+
+/// Steps at the CFL step (0.9) from t to t_end with the cup following pose(t); returns the
+/// largest count of water nodes outside the upright cup below its rim seen after a step.
+int run_cup(GridFluid& f, double& t, double t_end, const std::function<CupPose(double)>& pose) {
+  int worst_outside = 0;
+  while (t < t_end - 1e-12) {
+    const double dt = std::min(f.stable_dt(0.9), t_end - t);
+    const std::vector<sdk::ShellSurface> s0{make_cup(pose(t))}, s1{make_cup(pose(t + dt))};
+    f.advect(t, dt, s0, s1);
+    const std::vector<sdk::Positions> v_eff{s1[0].velocities};
+    f.project(dt, s1, v_eff);
+    t += dt;
+    worst_outside = std::max(worst_outside, count_water(f, pose(t)).outside_below_rim);
+  }
+  return worst_outside;
+}
+
+CupPose still(double) {
+  return CupPose{};
+}
+
+/// The stream: a cylinder emitter 0.08–0.14 m above the rim, radius 0.11 m (3.5Δx), 1 m/s
+/// down, on for the first 0.3 s.
+nlohmann::json stream_into_the_cup() {
+  const double top = kBase.y() + kHeight;
+  return {{"sources",
+           {{{"shape", "cylinder"},
+             {"from", {kBase.x(), top + 0.08, kBase.z()}},
+             {"to", {kBase.x(), top + 0.14, kBase.z()}},
+             {"radius", 0.11},
+             {"velocity", {0.0, -1.0, 0.0}},
+             {"end", 0.3}}}}};
+}
+
+TEST(WaterCup, StreamFillingTheStillCupNeverRunsOutsideIt) {
+  // The wall and the bottom seal the cup (§3, §4.3, §4.4.1): through the fill and 1.2 s
+  // after it, no node outside the cup below its rim ever holds water (exact: a count).
+  auto fluid = test::make_fluid(cup_params(stream_into_the_cup()));
+  double t = 0.0;
+  int worst_outside = run_cup(*fluid, t, 0.3, still);
+  const WaterCount filled = count_water(*fluid, CupPose{});
+  worst_outside = std::max(worst_outside, run_cup(*fluid, t, 1.5, still));
+  EXPECT_EQ(worst_outside, 0);
+  // Not vacuous: the stream reached the cup (the first centimetres of water lie in it).
+  EXPECT_GT(filled.in_cup, 0);
+}
+
+TEST(WaterCup, WaterInTheStillCupNeverRunsOutsideIt) {
+  // Water inscribed in the cup falls the last centimetre and spreads to the wall.
+  auto fluid = test::make_fluid(cup_params(water_in_the_cup()));
+  ASSERT_GT(count_water(*fluid, CupPose{}).interior, 0);
+  double t = 0.0;
+  EXPECT_EQ(run_cup(*fluid, t, 1.5, still), 0);  // exact: a count, as above
+}
+
+// Disabled: fails today. The level set loses the cup's water in a few tenths of a second:
+// 0.01047 m^3 at the start, 0.00858 at 0.1 s, 0.00198 at 0.2 s, 0.00101 at 1.5 s (-90%); the
+// stream's 0.0088 m^3 at the end of the fill is 1.0e-4 at 1.5 s. A shell-cut cell whose centre
+// lies in the cup averages its corners on both sides of the shell (LevelSet::cell_values), so
+// the corners outside (air, never updated) make it an air cell, p = 0, into which the water
+// drains and is never seen by the level set again (averaging only the corners visible from
+// the centre still loses 73% by 1.5 s: not the only sink). The bound is the thin-wall dam
+// bound, level within Δx/4, over the cup's cross-section: |ΔV| <= π R² Δx/4 (6.8% of V0).
+TEST(WaterCup, DISABLED_StillCupKeepsItsWater) {
+  auto fluid = test::make_fluid(cup_params(water_in_the_cup()));
+  const double dx = fluid->grid().dx();
+  const double v0 = fluid->liquid()->level_set().volume();
+  double t = 0.0;
+  run_cup(*fluid, t, 1.5, still);
+  const double v1 = fluid->liquid()->level_set().volume();
+  RecordProperty("volume_start", std::to_string(v0));
+  RecordProperty("volume_end", std::to_string(v1));
+  EXPECT_NEAR(v1, v0, std::numbers::pi * kRadius * kRadius * dx / 4.0);
+}
+
+/// Settled for 0.5 s, then tipped 110° clockwise seen from +z (pours towards +x) about the
+/// z axis through the rim in 1 s at a constant rate, then held.
+CupPose tipping(double time) {
+  constexpr double kStart = 0.5, kDuration = 1.0;
+  const double tip = -110.0 * std::numbers::pi / 180.0;
+  CupPose p;
+  p.angle = std::clamp((time - kStart) / kDuration, 0.0, 1.0) * tip;
+  p.rate = time >= kStart && time < kStart + kDuration ? tip / kDuration : 0.0;
+  return p;
+}
+
+// Disabled: fails today, as the water is gone before the cup tips (see above): at 0.5 s the
+// level set holds 0.0008 m^3 of the 0.01047 (a smeared film), no node of the cup's interior
+// is water, and none ever reaches the floor.
+TEST(WaterCup, DISABLED_TippedCupPoursItsWaterOut) {
+  auto fluid = test::make_fluid(cup_params(water_in_the_cup()));
+  double t = 0.0;
+  run_cup(*fluid, t, 0.5, tipping);
+  const WaterCount before = count_water(*fluid, tipping(t));
+  ASSERT_GT(before.interior, 0);
+  ASSERT_EQ(before.on_the_floor, 0);
+  run_cup(*fluid, t, 2.0, tipping);
+  const WaterCount after = count_water(*fluid, tipping(t));
+  RecordProperty("interior_before", before.interior);
+  RecordProperty("interior_after", after.interior);
+  EXPECT_GT(after.on_the_floor, 0);
+  // Opening 20° below horizontal, the cup holds no pocket: what stays in it is a film on
+  // the wall, within Δx of it. A tenth of the interior allows for water still running out
+  // 0.5 s after the tip (the cup empties in about sqrt(2H/g) = 0.23 s).
+  EXPECT_LE(after.interior, before.interior / 10);
+}
+
+}  // namespace
+}  // namespace shellflow::grid_fluid
