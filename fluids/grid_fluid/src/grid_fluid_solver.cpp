@@ -274,7 +274,9 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   for (int a = 0; a < 3; ++a) m_u_n[a] = m_nodes.velocity(a);
 
   // 2. §4.1 semi-Lagrangian advection with visibility (water: φ along the same rays).
-  m_advector.advect(m_nodes, m_next, dt, geom_n, band);
+  m_advector.advect(m_nodes, m_next, dt, geom_n, band,
+                    m_liquid ? m_liquid->velocity_nodes(t, dt, speed)
+                             : std::span<const std::uint8_t>());
   if (m_liquid) m_liquid->advect(m_nodes, dt, geom_n, band);
   std::swap(m_nodes, m_next);
 

@@ -6,7 +6,8 @@ using grid::Location;
 
 void SemiLagrangianAdvector::advect(const NodeFields& in, NodeFields& out, double dt,
                                     const ShellGeometry& shells,
-                                    const geometry::ShellBand* band) const {
+                                    const geometry::ShellBand* band,
+                                    std::span<const std::uint8_t> active) const {
   const std::int64_t count = m_grid.size(Location::Node);
   const std::span<const std::uint8_t> in_band =
       band && !shells.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
@@ -15,6 +16,10 @@ void SemiLagrangianAdvector::advect(const NodeFields& in, NodeFields& out, doubl
   const double eps_prime = geometry::WedgeCaster::kSemiLagrangianFactor * shells.epsilon();
 #pragma omp parallel for schedule(dynamic, 1024)
   for (std::int64_t node = 0; node < count; ++node) {
+    if (!active.empty() && active[node] == 0) {
+      out.set(node, in.sample(node));
+      continue;
+    }
     const Eigen::Vector3d x = m_grid.position(Location::Node, node);
     const Eigen::Vector3d departure =
         (x - dt * in.velocity_at(node)).cwiseMax(lower).cwiseMin(upper);

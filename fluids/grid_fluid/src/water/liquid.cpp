@@ -1,5 +1,7 @@
 #include "shellflow/grid_fluid/water/liquid.hpp"
 
+#include <cmath>
+
 #include "shellflow/grid_fluid/water/initial_water.hpp"
 #include "shellflow/sdk/error.hpp"
 
@@ -62,6 +64,26 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   // The pools' planes and boxes are exact distances; meshes and unions are made one.
   m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), ShellGeometry(), nullptr);
   m_initial_volume = m_level_set.volume();
+}
+
+std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double max_speed) {
+  const grid::UniformGrid& grid = m_level_set.grid();
+  const double reach = dt * max_speed + (std::sqrt(3.0) + 1.0) * grid.dx();
+  const auto& phi = m_level_set.phi();
+  const std::int64_t count = static_cast<std::int64_t>(phi.size());
+  m_velocity_nodes.resize(count);
+  if (reach >= m_level_set.band()) return {};  // the whole band: every node
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < count; ++i) m_velocity_nodes[i] = phi[i] <= reach ? 1 : 0;
+  for (const auto& s : m_sources) {
+    if (!s.active(t)) continue;
+    const grid::IndexBox box = s.bounding_nodes(grid, reach);
+    for (int k = box.lo.z(); k <= box.hi.z(); ++k)
+      for (int j = box.lo.y(); j <= box.hi.y(); ++j)
+        for (int i = box.lo.x(); i <= box.hi.x(); ++i)
+          m_velocity_nodes[grid.index(Location::Node, i, j, k)] = 1;
+  }
+  return m_velocity_nodes;
 }
 
 void Liquid::advect(const NodeFields& velocity, double dt, const ShellGeometry& shells,

@@ -8,6 +8,9 @@
 // fast path (the band is grown by Δt max|u| + 2Δx so that neither ray nor stencil of a
 // node outside it can reach a shell).
 
+#include <cstdint>
+#include <span>
+
 #include "shellflow/geometry/shell_band.hpp"
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
@@ -20,9 +23,10 @@ class SemiLagrangianAdvector {
       : m_grid(grid), m_ambient(ambient_temperature) {}
 
   /// out = in advected by in's own velocity over dt. `band` may be null (no shells).
-  /// `out` must be sized like `in` (NodeFields of the same grid).
+  /// `out` must be sized like `in` (NodeFields of the same grid). `active` (one byte per
+  /// node; empty: every node) limits the work to the flagged nodes; the others keep `in`.
   void advect(const NodeFields& in, NodeFields& out, double dt, const ShellGeometry& shells,
-              const geometry::ShellBand* band) const;
+              const geometry::ShellBand* band, std::span<const std::uint8_t> active = {}) const;
 
   /// The band margin that makes the fast path safe for a step dt at speed max_speed.
   double band_margin(double dt, double max_speed) const { return dt * max_speed + 2.0 * m_grid.dx(); }

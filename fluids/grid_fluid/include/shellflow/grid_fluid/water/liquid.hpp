@@ -49,6 +49,12 @@ class Liquid {
   const std::vector<WaterSource>& sources() const { return m_sources; }
   double initial_volume() const { return m_initial_volume; }
 
+  /// The nodes whose advected velocity the next projection can read (one byte per node),
+  /// from φ^n before advect(): a face next to a liquid cell of step n+1 has its nodes
+  /// within √3Δx of the water then, so within dt·max_speed + √3Δx of it now; one Δx more
+  /// for the ring averaging and reinitialisation, and every node about an emitter that is
+  /// on at t. Velocities elsewhere are extrapolated or zero (§4.4): not worth advecting.
+  std::span<const std::uint8_t> velocity_nodes(double t, double dt, double max_speed);
   void advect(const NodeFields& velocity, double dt, const ShellGeometry& shells,
               const geometry::ShellBand* band);
   void add_sources(double t, DomainBoundary& boundary);
@@ -73,6 +79,7 @@ class Liquid {
   std::vector<double> m_cell_phi;
   FreeSurface m_surface;
   std::array<std::vector<std::uint8_t>, 3> m_known;
+  std::vector<std::uint8_t> m_velocity_nodes;
   double m_initial_volume = 0.0;
   LiquidStats m_stats;
 };

@@ -25,6 +25,10 @@ class WaterSource {
   /// φ = min(φ, signed distance to the emitter) on the nodes within the level set's band
   /// of it, while on at time t. Returns the nodes inside.
   std::int64_t apply(double t, LevelSet& level_set) const;
+  /// The nodes in the emitter's bounding box grown by `margin` [m].
+  grid::IndexBox bounding_nodes(const grid::UniformGrid& grid, double margin) const {
+    return m_emitter.bounding_samples(grid, grid::Location::Node, margin);
+  }
   /// The held faces of family `axis` (SmokeSource::append_faces with a closed intake).
   void append_faces(double t, const grid::UniformGrid& grid, int axis,
                     std::vector<SourceFace>& out) const {
