@@ -15,6 +15,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev libbenchmark-dev libtbb-dev libspdlog-dev libcli11-dev
   libtinyobjloader-dev libstb-dev libpng-dev libopenvdb-dev libboost-iostreams-dev
   libopenblas0-openmp  # an optimised BLAS for CHOLMOD (the reference BLAS is ~100x slower)
+  python3-matplotlib   # scripts/plot_dam_break.py draws the README's dam-break figure
 )
 
 missing=()
