@@ -389,7 +389,7 @@ void GridFluid::project(double dt, sdk::ShellSet shells,
   const ShellGeometry& geom = have_shells ? *m_geometry_np1 : none;
   const auto start = std::chrono::steady_clock::now();
   m_stats.projection = m_projection.project(m_mac, dt, m_boundary, geom, band,
-                                            m_liquid ? &m_liquid->surface() : nullptr);
+                                            m_liquid ? &m_liquid->surface(geom, band) : nullptr);
   m_t_pressure = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // §4.4: velocities across the surface, against the effective velocity of the shells.
   if (m_liquid) m_liquid->extrapolate(m_mac, m_projection, geom, band);

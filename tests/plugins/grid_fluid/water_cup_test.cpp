@@ -162,14 +162,16 @@ TEST(WaterCup, WaterInTheStillCupNeverRunsOutsideIt) {
   EXPECT_EQ(run_cup(*fluid, t, 1.5, still), 0);  // exact: a count, as above
 }
 
-// Disabled: fails today. The level set loses the cup's water in a few tenths of a second:
-// 0.01047 m^3 at the start, 0.00858 at 0.1 s, 0.00198 at 0.2 s, 0.00101 at 1.5 s (-90%); the
-// stream's 0.0088 m^3 at the end of the fill is 1.0e-4 at 1.5 s. A shell-cut cell whose centre
-// lies in the cup averages its corners on both sides of the shell (LevelSet::cell_values), so
-// the corners outside (air, never updated) make it an air cell, p = 0, into which the water
-// drains and is never seen by the level set again (averaging only the corners visible from
-// the centre still loses 73% by 1.5 s: not the only sink). The bound is the thin-wall dam
-// bound, level within Δx/4, over the cup's cross-section: |ΔV| <= π R² Δx/4 (6.8% of V0).
+// Disabled: fails today. The level set loses the cup's water: 0.01047 m^3 at the start,
+// 0.00187 at 1.5 s (-82%). The inscribed box leaves a ring of air against the wall that the
+// water rushes into (a small dam break, 1-2 m/s at the bottom); the cells there are cut by
+// the wall and the bottom, see only two of their corners, and stay air (p = 0) while the
+// faces carry water into them: φ, advected with node velocities that the wall slows,
+// fills them far more slowly than the face fluxes empty the cup. (Cells whose centre lies
+// above the bottom now see only their own side's corners, Liquid::surface(); averaging
+// all eight lost 90%.) The thin film against a shell is the particle level set's case.
+// The bound is the thin-wall dam bound, level within Δx/4, over the cup's
+// cross-section: |ΔV| <= π R² Δx/4 (6.8% of V0).
 TEST(WaterCup, DISABLED_StillCupKeepsItsWater) {
   auto fluid = test::make_fluid(cup_params(water_in_the_cup()));
   const double dx = fluid->grid().dx();
@@ -193,9 +195,8 @@ CupPose tipping(double time) {
   return p;
 }
 
-// Disabled: fails today, as the water is gone before the cup tips (see above): at 0.5 s the
-// level set holds 0.0008 m^3 of the 0.01047 (a smeared film), no node of the cup's interior
-// is water, and none ever reaches the floor.
+// Disabled: fails today, as most of the water is gone before the cup tips (see above), and
+// what is left, a film on the wall, never reaches the floor.
 TEST(WaterCup, DISABLED_TippedCupPoursItsWaterOut) {
   auto fluid = test::make_fluid(cup_params(water_in_the_cup()));
   double t = 0.0;

@@ -178,6 +178,31 @@ TEST(Water, PoolAtRestWithAStaticTiltedPlatePiercingTheSurface) {
   EXPECT_NEAR(surface_height(*fluid, 0.85, 0.5), h0, 1e-3 * dx);
 }
 
+TEST(Water, ALayerFallingOntoAShelfWithAirBeneathStaysOnIt) {
+  // A horizontal plate spanning the tank at y = 0.27 (between node planes), air beneath; a
+  // layer of water 0.205 thick released 2Δx above it falls onto it and settles there. The
+  // cells the plate cuts are water where their centre lies above it: the corners beneath
+  // still hold the air's φ and must not make them p = 0 sinks (they did: the layer lost
+  // two thirds of its volume, its top ending at 0.34).
+  auto fluid = test::make_fluid(water_params(
+      16, {{"initial", {{{"type", "box"}, {"min", {-1, 0.395, -1}}, {"max", {2, 0.6, 2}}}}}}));
+  const auto shelf = test::make_plate({0.5, 0.27, 0.5}, Eigen::Vector3d::UnitY(), 1.2, 9);
+  const std::vector<sdk::ShellSurface> shells{shelf};
+  const std::vector<sdk::Positions> v_eff{shelf.velocities};
+  const double dx = fluid->grid().dx();
+  const double area = 1.0;
+  const double v0 = fluid->liquid()->level_set().volume();
+  run_for(*fluid, 2.0, shells, v_eff);
+  // Volume: the thin-wall dam's level bound, Δx/4 (the water core issue), over the tank.
+  EXPECT_NEAR(fluid->liquid()->level_set().volume(), v0, 0.25 * dx * area);
+  // Level: 0.27 + 0.205 = 0.475, up to the film of air the level set keeps between the
+  // shelf and the first node plane above it (a node held next to the shell keeps the
+  // small |φ| it had as the layer's underside): at most one Δx.
+  EXPECT_LT(max_face_speed(*fluid), 1e-6);  // at rest: the fall's splash has died out
+  EXPECT_NEAR(surface_height(*fluid, 0.5, 0.5), 0.475 + 0.5 * dx, 0.5 * dx);
+  EXPECT_NEAR(surface_height(*fluid, 0.1, 0.9), 0.475 + 0.5 * dx, 0.5 * dx);
+}
+
 /// A thin plate x = 0.5 spanning the tank (a little beyond its walls) seals it.
 sdk::ShellSurface dam_plate(double x) {
   return test::make_plate({x, 0.5, 0.5}, Eigen::Vector3d::UnitX(), 1.2, 9);

@@ -128,8 +128,49 @@ void Liquid::reinitialize(const ShellGeometry& shells, const geometry::ShellBand
   m_stats.t_reinitialize = seconds_since(start);
 }
 
-const FreeSurface& Liquid::surface() {
+const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::ShellBand* band) {
   m_level_set.cell_values(m_cell_phi);
+  if (band != nullptr && !shells.empty()) {
+    // A shell-cut cell: only the corners its centre sees say whether it is water. Corners
+    // across the shell hold the other side's φ (air beneath a cup's bottom), and averaged
+    // in they made the first cell of water on a shell air, p = 0: a drain (§4.3). Pairs of
+    // opposite corners, both seen, come first: each pair's mean is exact at the centre for
+    // a linear φ, so a still surface cut by a shell keeps its height; with no such pair,
+    // the mean of the corners seen.
+    const grid::UniformGrid& grid = m_level_set.grid();
+    const auto& phi = m_level_set.phi();
+    const auto list = band->samples(Location::Cell);
+    const std::int64_t m = static_cast<std::int64_t>(list.size());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::int64_t s = 0; s < m; ++s) {
+      const std::int64_t cell = list[s];
+      const Eigen::Vector3i c = grid.coordinates(Location::Cell, cell);
+      const Eigen::Vector3d centre = grid.position(Location::Cell, c);
+      double value[8];
+      bool seen[8];
+      for (int corner = 0; corner < 8; ++corner) {
+        const Eigen::Vector3i node = c + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
+        seen[corner] = shells.visible(centre, grid.position(Location::Node, node));
+        value[corner] = phi[grid.index(Location::Node, node)];
+      }
+      double pairs = 0.0, single = 0.0;
+      int pair_count = 0, single_count = 0;
+      for (int corner = 0; corner < 8; ++corner) {
+        if (!seen[corner]) continue;
+        single += value[corner];
+        ++single_count;
+        if (corner < 4 && seen[7 - corner]) {
+          pairs += value[corner] + value[7 - corner];
+          pair_count += 2;
+        }
+      }
+      if (pair_count > 0) {
+        m_cell_phi[cell] = pairs / pair_count;
+      } else if (single_count > 0) {
+        m_cell_phi[cell] = single / single_count;
+      }
+    }
+  }
   m_surface.cell_phi = m_cell_phi;
   return m_surface;
 }

@@ -61,8 +61,10 @@ class Liquid {
   /// `swept` flags (0) the nodes the shells swept n → n+1 (SweptRefill); may be empty.
   void refill(std::span<const std::uint8_t> node_valid_before, const ShellGeometry& shells);
   void reinitialize(const ShellGeometry& shells, const geometry::ShellBand* band);
-  /// The projection's view of the liquid (valid until the next advect()).
-  const FreeSurface& surface();
+  /// The projection's view of the liquid (valid until the next advect()): φ at the cell
+  /// centres, the mean of the corners each centre sees (`band`: the cells where rays are
+  /// cast; may be null without shells).
+  const FreeSurface& surface(const ShellGeometry& shells, const geometry::ShellBand* band);
   void extrapolate(MacGrid& mac, const PressureProjection& projection, const ShellGeometry& shells,
                    const geometry::ShellBand* band);
 
