@@ -1,6 +1,8 @@
-// Seconds per step of a three-dimensional dam break in grid_fluid by phase (φ advection,
-// reinitialisation, velocity advection, pressure, extrapolation), PCG iterations and the
-// cells each phase touches, at 64^3 and 128^3; and the peak memory of a run per size,
+// Seconds per step of a three-dimensional dam break in grid_fluid by phase (φ advection
+// with sources and refill; reinitialisation; velocity advection with gravity and the
+// transfer to faces; the projection with the faces → nodes transfer; extrapolation), PCG
+// iterations and the share of the grid the solve, the march and the extrapolation work on,
+// at 64^3 and 128^3; and the peak memory of a run per size,
 // each measured in its own process (ru_maxrss only grows):
 //   build-*/bin/bench_water --benchmark_filter=DamBreak
 //   build-*/bin/bench_water --benchmark_filter=PeakMemory
@@ -89,7 +91,7 @@ void BM_DamBreak(benchmark::State& state) {
   state.counters["reinit_s"] = times.reinitialize / steps;
   state.counters["velocity_advect_s"] =
       (times.advect - times.level_set - times.reinitialize) / steps;
-  state.counters["pressure_s"] = (times.project - times.extrapolate) / steps;
+  state.counters["projection_s"] = (times.project - times.extrapolate) / steps;
   state.counters["extrapolate_s"] = times.extrapolate / steps;
   state.counters["pcg_iterations"] = times.iterations / steps;
   // Work per phase against the grid: the share of cells the solve, the march and the
