@@ -10,14 +10,13 @@
 // to a relative residual of 1e-5, double precision) < 1.5 s without shells, < 2.0 s with
 // the sheet; peak memory < 1 GB at 128^3.
 #include <benchmark/benchmark.h>
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
 
+#include "bench_peak_memory.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/grid_fluid/grid_fluid_solver.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
@@ -139,36 +138,13 @@ int measure_peak_memory(const std::string& spec) {
   const double dt = 0.5 / resolution;
   PhaseTimes times;
   for (int s = 0; s < kWarmUpSteps + 3; ++s) step(*fluid, s * dt, dt, with_sheet, times);
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  std::printf("peak_rss_kb %ld\n", usage.ru_maxrss);
-  return 0;
+  return bench::print_peak_rss();
 }
 
 /// Peak memory of a plume run at each size, each measured in a fresh child process.
 void BM_PeakMemory(benchmark::State& state) {
-  const int resolution = static_cast<int>(state.range(0));
-  const bool with_sheet = state.range(1) != 0;
-  const std::string command = "/proc/" + std::to_string(getpid()) +
-                              "/exe --peak-memory=" + std::to_string(resolution) +
-                              (with_sheet ? ",sheet" : "") + " 2>/dev/null";
-  long kb = -1;
-  for (auto _ : state) {
-    FILE* child = popen(command.c_str(), "r");
-    if (child == nullptr) {
-      state.SkipWithError("popen failed");
-      return;
-    }
-    char line[256];
-    while (std::fgets(line, sizeof line, child) != nullptr)
-      if (std::sscanf(line, "peak_rss_kb %ld", &kb) == 1) break;
-    pclose(child);
-  }
-  if (kb < 0) {
-    state.SkipWithError("the child printed no peak_rss_kb");
-    return;
-  }
-  state.counters["peak_rss_MB"] = kb / 1024.0;
+  bench::measure_in_child(state,
+                          std::to_string(state.range(0)) + (state.range(1) != 0 ? ",sheet" : ""));
 }
 BENCHMARK(BM_PeakMemory)->ArgsProduct({{64, 128}, {0, 1}})->Unit(benchmark::kSecond)->Iterations(1);
 

@@ -10,14 +10,13 @@
 // The water core issue's targets on the 2-core machine: 128^3 under 1.0 s per step with
 // the pressure to a relative residual of 1e-5, memory under 1.5 GB.
 #include <benchmark/benchmark.h>
-#include <sys/resource.h>
-#include <unistd.h>
 
 #include <chrono>
 #include <cstdio>
 #include <cstring>
 #include <string>
 
+#include "bench_peak_memory.hpp"
 #include "shellflow/grid_fluid/grid_fluid_solver.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
 
@@ -46,7 +45,7 @@ std::unique_ptr<grid_fluid::GridFluid> dam_break(int resolution) {
 }
 
 struct PhaseTimes {
-  double advect = 0.0, project = 0.0;      // the two solver calls
+  double advect = 0.0, project = 0.0;                             // the two solver calls
   double level_set = 0.0, reinitialize = 0.0, extrapolate = 0.0;  // the liquid's share
   double iterations = 0.0, solve_cells = 0.0, marched = 0.0, extrapolated = 0.0;
   int steps = 0;
@@ -109,33 +108,11 @@ int measure_peak_memory(const std::string& spec) {
   double t = 0.0;
   PhaseTimes times;
   while (t < kWarmUpSeconds || times.steps < 3) step(*fluid, t, times);
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  std::printf("peak_rss_kb %ld\n", usage.ru_maxrss);
-  return 0;
+  return bench::print_peak_rss();
 }
 
 void BM_PeakMemory(benchmark::State& state) {
-  const std::string command = "/proc/" + std::to_string(getpid()) +
-                              "/exe --peak-memory=" + std::to_string(state.range(0)) +
-                              " 2>/dev/null";
-  long kb = -1;
-  for (auto _ : state) {
-    FILE* child = popen(command.c_str(), "r");
-    if (child == nullptr) {
-      state.SkipWithError("popen failed");
-      return;
-    }
-    char line[256];
-    while (std::fgets(line, sizeof line, child) != nullptr)
-      if (std::sscanf(line, "peak_rss_kb %ld", &kb) == 1) break;
-    pclose(child);
-  }
-  if (kb < 0) {
-    state.SkipWithError("the child printed no peak_rss_kb");
-    return;
-  }
-  state.counters["peak_rss_MB"] = kb / 1024.0;
+  bench::measure_in_child(state, std::to_string(state.range(0)));
 }
 BENCHMARK(BM_PeakMemory)->Arg(64)->Arg(128)->Unit(benchmark::kSecond)->Iterations(1);
 

@@ -23,19 +23,7 @@ double max_face_speed(const GridFluid& f) {
   return f.mac().max_face_speed();
 }
 
-/// Height of the surface along the vertical node line through (x, z): where φ crosses 0.
-double surface_height(const GridFluid& f, double x, double z) {
-  const auto& ls = f.liquid()->level_set();
-  const double dx = f.grid().dx();
-  double below = 0.0, phi_below = ls.sample({x, 0.0, z});
-  for (double y = dx; y <= f.grid().upper().y() + 1e-12; y += dx) {
-    const double phi = ls.sample({x, y, z});
-    if (phi_below <= 0.0 && phi > 0.0) return below + dx * phi_below / (phi_below - phi);
-    below = y;
-    phi_below = phi;
-  }
-  return -1.0;
-}
+using test::surface_height;
 
 void run_steps(GridFluid& f, int steps, double dt, sdk::ShellSet shells,
                const std::vector<sdk::Positions>& v_eff) {
@@ -89,7 +77,8 @@ TEST(Water, AFallingDropFallsFreelyAndOnlyItsBoxIsSolved) {
   // and projected exactly: round-off bound). Only the nodes about the drop are advected
   // and only its bounding box is solved, not the tank.
   auto fluid = test::make_fluid(water_params(
-      32, {{"initial", {{{"type", "sphere"}, {"center", {0.5, 0.6, 0.5}}, {"radius", 0.12}}}}}, 1e-8));
+      32, {{"initial", {{{"type", "sphere"}, {"center", {0.5, 0.6, 0.5}}, {"radius", 0.12}}}}},
+      1e-8));
   run_steps(*fluid, 10, 0.01, {}, {});
   const auto& p = fluid->last_step().projection;
   const double cells_across = 2.0 * 0.12 * 32 + 2.0;  // the diameter, a cell either side

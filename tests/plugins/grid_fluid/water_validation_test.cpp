@@ -24,20 +24,7 @@ using grid::Location;
 
 constexpr double kGravity = 9.81;
 
-/// Height of the surface on the vertical node line through (x, z): where φ first crosses 0
-/// going up, by linear interpolation between the nodes (as water_test's surface_height).
-double surface_height(const GridFluid& f, double x, double z) {
-  const auto& ls = f.liquid()->level_set();
-  const double dx = f.grid().dx();
-  double below = 0.0, phi_below = ls.sample({x, 0.0, z});
-  for (double y = dx; y <= f.grid().upper().y() + 1e-12; y += dx) {
-    const double phi = ls.sample({x, y, z});
-    if (phi_below <= 0.0 && phi > 0.0) return below + dx * phi_below / (phi_below - phi);
-    below = y;
-    phi_below = phi;
-  }
-  return -1.0;
-}
+using test::surface_height;
 
 /// One step at the CFL number `cfl` without shells; returns Δt.
 double step(GridFluid& f, double t, double cfl, double t_end) {

@@ -5,8 +5,7 @@ namespace shellflow::grid_fluid {
 using grid::Location;
 
 void SemiLagrangianAdvector::advect(const NodeFields& in, NodeFields& out, double dt,
-                                    const ShellGeometry& shells,
-                                    const geometry::ShellBand* band,
+                                    const ShellGeometry& shells, const geometry::ShellBand* band,
                                     std::span<const std::uint8_t> active) const {
   const std::int64_t count = m_grid.size(Location::Node);
   const std::span<const std::uint8_t> in_band =

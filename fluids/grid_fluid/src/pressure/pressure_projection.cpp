@@ -166,7 +166,8 @@ void PressureProjection::build_operator() {
       for (int j = 0; j < faces.y(); ++j)
         for (int i = 0; i < faces.x(); ++i) {
           Eigen::Vector3i c = Eigen::Vector3i(i, j, k) + m_box_lo;  // the face's + cell
-          const std::int64_t local = i + std::int64_t(faces.x()) * (j + std::int64_t(faces.y()) * k);
+          const std::int64_t local =
+              i + std::int64_t(faces.x()) * (j + std::int64_t(faces.y()) * k);
           double weight = flags[m_grid.index(face_location(a), c)] != 0 ? 0.0 : 1.0;
           if (weight != 0.0 && m_surface != nullptr) {
             const bool plus_air = c[a] < n[a] && air(m_grid.index(Location::Cell, c));

@@ -149,7 +149,8 @@ const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::
       double value[8];
       bool seen[8];
       for (int corner = 0; corner < 8; ++corner) {
-        const Eigen::Vector3i node = c + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
+        const Eigen::Vector3i node =
+            c + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
         seen[corner] = shells.visible(centre, grid.position(Location::Node, node));
         value[corner] = phi[grid.index(Location::Node, node)];
       }

@@ -29,7 +29,9 @@ class SemiLagrangianAdvector {
               const geometry::ShellBand* band, std::span<const std::uint8_t> active = {}) const;
 
   /// The band margin that makes the fast path safe for a step dt at speed max_speed.
-  double band_margin(double dt, double max_speed) const { return dt * max_speed + 2.0 * m_grid.dx(); }
+  double band_margin(double dt, double max_speed) const {
+    return dt * max_speed + 2.0 * m_grid.dx();
+  }
 
  private:
   grid::UniformGrid m_grid;

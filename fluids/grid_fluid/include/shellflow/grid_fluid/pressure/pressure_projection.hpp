@@ -148,10 +148,10 @@ class PressureProjection {
   ProjectionSettings m_settings;
   std::array<std::vector<std::uint8_t>, 3> m_neumann;
   FluidRegions m_regions;
-  std::vector<double> m_scaled;  ///< p' = p Δt / Δx, kept as the next initial guess
-  linear::GridLaplacian m_laplacian;        ///< on the solve box
+  std::vector<double> m_scaled;       ///< p' = p Δt / Δx, kept as the next initial guess
+  linear::GridLaplacian m_laplacian;  ///< on the solve box
   Eigen::Vector3i m_box_lo = Eigen::Vector3i::Zero();
-  std::vector<std::int64_t> m_box_cells;    ///< grid cell of each unknown (box order)
+  std::vector<std::int64_t> m_box_cells;   ///< grid cell of each unknown (box order)
   linear::ConstantNullSpace m_null_space;  ///< constants of the enclosed regions
   int m_enclosed_count = 0;
   std::vector<int> m_first_enclosed_cell;  ///< per enclosed group (CHOLMOD's pinned cell)
