@@ -102,4 +102,20 @@ Eigen::Vector3d ShellGeometry::clip(const Eigen::Vector3d& a, const Eigen::Vecto
   return a + lo * (b - a);
 }
 
+std::uint8_t ShellGeometry::hidden_axis_neighbours(const grid::UniformGrid& grid,
+                                                   const Eigen::Vector3i& ijk) const {
+  const Eigen::Vector3i n = grid.counts(grid::Location::Node);
+  const Eigen::Vector3d x = grid.position(grid::Location::Node, ijk);
+  std::uint8_t bits = 0;
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side) {
+      Eigen::Vector3i nb = ijk;
+      nb[a] += side == 0 ? -1 : 1;
+      if (nb[a] < 0 || nb[a] >= n[a]) continue;
+      if (!visible(x, grid.position(grid::Location::Node, nb)))
+        bits |= std::uint8_t(1u << (2 * a + side));
+    }
+  return bits;
+}
+
 }  // namespace shellflow::grid_fluid

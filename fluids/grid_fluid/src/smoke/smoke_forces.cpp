@@ -43,17 +43,9 @@ double SmokeForces::add_vorticity_confinement(NodeFields& fields, double dt, dou
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::int64_t s = 0; s < m; ++s) {
       const std::int64_t i = list[s];
-      const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, i);
-      const Eigen::Vector3d x = m_grid.position(Location::Node, ijk);
-      std::uint8_t mask = 0;
-      for (int a = 0; a < 3; ++a)
-        for (int side = 0; side < 2; ++side) {
-          Eigen::Vector3i nb = ijk;
-          nb[a] += side == 0 ? -1 : 1;
-          if (nb[a] < 0 || nb[a] >= n[a]) continue;
-          if (shells.visible(x, m_grid.position(Location::Node, nb))) mask |= 1u << (2 * a + side);
-        }
-      m_visible_mask[i] = mask;
+      // Only interior nodes read the mask: all six neighbours lie in the grid there.
+      m_visible_mask[i] = std::uint8_t(
+          ~shells.hidden_axis_neighbours(m_grid, m_grid.coordinates(Location::Node, i)) & 0x3F);
     }
   }
   const auto interior = [&](const Eigen::Vector3i& ijk) {

@@ -39,18 +39,7 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::int64_t s = 0; s < m; ++s) {
       const std::int64_t i = list[s];
-      const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, i);
-      const Eigen::Vector3d x = m_grid.position(Location::Node, ijk);
-      std::uint8_t bits = 0;
-      for (int a = 0; a < 3; ++a)
-        for (int side = 0; side < 2; ++side) {
-          const int c = ijk[a] + (side == 0 ? -1 : 1);
-          if (c < 0 || c >= n[a]) continue;
-          Eigen::Vector3d y = x;
-          y[a] += side == 0 ? -dx : dx;
-          if (!shells.visible(x, y)) bits |= std::uint8_t(1u << (2 * a + side));
-        }
-      m_hidden[i] = bits;
+      m_hidden[i] = shells.hidden_axis_neighbours(m_grid, m_grid.coordinates(Location::Node, i));
     }
     for (const std::int64_t i : list)
       if (m_hidden[i] != 0) m_hidden_list.push_back(i);

@@ -4,6 +4,7 @@
 // call), one TriangleBvh per shell and one WedgeCaster over all of them. Answers
 // "is b visible from a" and "what is the object velocity where [a, b] meets a shell".
 
+#include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
@@ -11,6 +12,7 @@
 
 #include "shellflow/geometry/triangle_bvh.hpp"
 #include "shellflow/geometry/wedge_caster.hpp"
+#include "shellflow/grid/uniform_grid.hpp"
 #include "shellflow/sdk/shell_surface.hpp"
 
 namespace shellflow::grid_fluid {
@@ -31,8 +33,8 @@ class ShellGeometry {
   /// True when `shells` has the same node positions as this copy (bit for bit).
   bool same_positions(sdk::ShellSet shells) const;
 
-  /// Replaces the object velocities (`velocities[s]` for ShellSet entry s, one row per node), e.g. by the §4.3
-  /// effective velocity; an empty matrix keeps the shell's own velocities.
+  /// Replaces the object velocities (`velocities[s]` for ShellSet entry s, one row per node), e.g.
+  /// by the §4.3 effective velocity; an empty matrix keeps the shell's own velocities.
   void set_velocities(std::span<const sdk::Positions> velocities);
 
   /// Segment [a, b] touches no wedge of thickness `epsilon` (ε by default).
@@ -42,6 +44,11 @@ class ShellGeometry {
   bool visible(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double epsilon) const {
     return m_shells.empty() || !m_caster->blocked(a, b, epsilon);
   }
+  /// The axis neighbours node `ijk` of `grid` cannot see: bit 2a + side (side 0: −, 1: +)
+  /// set when the ray to the neighbour along axis a meets a shell; neighbours outside the
+  /// grid are never set.
+  std::uint8_t hidden_axis_neighbours(const grid::UniformGrid& grid,
+                                      const Eigen::Vector3i& ijk) const;
 
   /// The object velocity (barycentric interpolation of node velocities) where [a, b]
   /// first meets a wedge of thickness ε; the velocity of the surface point closest to b
