@@ -281,6 +281,18 @@ TEST(FastMarching, ReinitialisesAStretchedSphereToItsDistance) {
   EXPECT_LT(worst, 0.6 * grid.dx());
 }
 
+/// One static shell as a fast-marching test hands it over: its geometry (ε = 1e-3 Δx,
+/// the PhysBAM default) and its band (2Δx).
+struct StaticShell {
+  StaticShell(const grid::UniformGrid& grid, sdk::ShellSurface shell)
+      : shells{std::move(shell)}, geometry(shells, 1e-3 * grid.dx()), band(grid) {
+    band.add(geometry::TriangleMesh(shells.front()), 2.0 * grid.dx());
+  }
+  std::vector<sdk::ShellSurface> shells;
+  ShellGeometry geometry;
+  geometry::ShellBand band;
+};
+
 TEST(FastMarching, NeverMarchesAcrossAShell) {
   // Water in x < 0.3; a plate at x = 0.5 + Δx/3 with a dry side beyond it (φ = the band,
   // as a dry side holds). No distance may come from the water through the plate: nodes
@@ -293,13 +305,9 @@ TEST(FastMarching, NeverMarchesAcrossAShell) {
     const double x = grid.position(Location::Node, i).x();
     phi[i] = x > plate_x ? width : x - 0.3;
   }
-  const auto plate = dam_plate(plate_x);
-  const std::vector<sdk::ShellSurface> shells{plate};
-  const ShellGeometry geometry(shells, 1e-3 * grid.dx());
-  geometry::ShellBand band(grid);
-  band.add(geometry::TriangleMesh(plate), 2.0 * grid.dx());
+  const StaticShell plate(grid, dam_plate(plate_x));
   FastMarching fmm(grid);
-  fmm.reinitialize(phi, width, geometry, &band);
+  fmm.reinitialize(phi, width, plate.geometry, &plate.band);
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i) {
     const double x = grid.position(Location::Node, i).x();
     if (x > plate_x) {
@@ -325,20 +333,17 @@ TEST(FastMarching, KeepsAStillSurfaceThatAShellPiercesUnchanged) {
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i)
     phi[i] = std::clamp(n.dot(grid.position(Location::Node, i) - on_plane), -width, width);
   const auto exact = phi;
-  const auto plate =
-      test::make_plate({0.5, 0.45, 0.52}, Eigen::Vector3d(1.0, 0.3, -0.4).normalized(), 0.6, 7);
-  const std::vector<sdk::ShellSurface> shells{plate};
-  const ShellGeometry geometry(shells, 1e-3 * grid.dx());
-  geometry::ShellBand band(grid);
-  band.add(geometry::TriangleMesh(plate), 2.0 * grid.dx());
+  const StaticShell plate(
+      grid,
+      test::make_plate({0.5, 0.45, 0.52}, Eigen::Vector3d(1.0, 0.3, -0.4).normalized(), 0.6, 7));
   FastMarching fmm(grid);
-  fmm.reinitialize(phi, width, geometry, &band);
+  fmm.reinitialize(phi, width, plate.geometry, &plate.band);
   int near_plate = 0;
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i) {
     if (std::abs(exact[i]) < width - grid.dx()) {
       EXPECT_NEAR(phi[i], exact[i], 1e-12) << i;
     }
-    near_plate += std::abs(exact[i]) < grid.dx() && band.contains(Location::Node, i) ? 1 : 0;
+    near_plate += std::abs(exact[i]) < grid.dx() && plate.band.contains(Location::Node, i) ? 1 : 0;
   }
   EXPECT_GT(near_plate, 10);  // the plate does cross the surface's cells
 }
