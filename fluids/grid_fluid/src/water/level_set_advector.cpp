@@ -36,45 +36,53 @@ void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velo
         continue;
       }
       // §4.1 clipped ray, then one secondary ray per cell node (§4.4.1).
-      const Eigen::Vector3d base = shells.clip(x, departure, eps_prime);
-      const NodeStencil st = node_stencil(m_grid, base);
-      double value[8];
-      unsigned visible = 0;
-      for (int c = 0; c < 8; ++c) {
-        const std::int64_t corner = st.corner(m_grid, c);
-        value[c] = in[corner];
-        if (shells.visible(base, m_grid.position(Location::Node, corner))) visible |= 1u << c;
-      }
-      if (visible == 0) {
+      const std::optional<double> v =
+          sample_visible(in, shells.clip(x, departure, eps_prime), shells);
+      if (!v) {
         out[node] = in[node];
         mine.push_back(node);
         continue;
       }
-      double v = 0.0;
-      for (int c = 0; c < 8; ++c) {
-        double phi = value[c];
-        if ((visible >> c & 1u) == 0) {
-          // Rings of the cell around corner c: corners differing in 1, 2, then 3 bits.
-          for (int ring = 1; ring <= 3; ++ring) {
-            double sum = 0.0;
-            int terms = 0;
-            for (int d = 0; d < 8; ++d)
-              if ((visible >> d & 1u) != 0 && std::popcount(unsigned(c ^ d)) == ring) {
-                sum += value[d];
-                ++terms;
-              }
-            if (terms > 0) {
-              phi = sum / terms;
-              break;
-            }
-          }
-        }
-        v += st.weight(c) * phi;
-      }
-      out[node] = v;
+      out[node] = *v;
     }
   }
   for (const auto& list : per_thread) invalid.insert(invalid.end(), list.begin(), list.end());
+}
+
+std::optional<double> LevelSetAdvector::sample_visible(std::span<const double> phi,
+                                                       const Eigen::Vector3d& base,
+                                                       const ShellGeometry& shells) const {
+  const NodeStencil st = node_stencil(m_grid, base);
+  double value[8];
+  unsigned visible = 0;
+  for (int c = 0; c < 8; ++c) {
+    const std::int64_t corner = st.corner(m_grid, c);
+    value[c] = phi[corner];
+    if (shells.visible(base, m_grid.position(Location::Node, corner))) visible |= 1u << c;
+  }
+  if (visible == 0) return std::nullopt;
+  double v = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    double p = value[c];
+    if ((visible >> c & 1u) == 0) {
+      // Rings of the cell around corner c: corners differing in 1, 2, then 3 bits.
+      for (int ring = 1; ring <= 3; ++ring) {
+        double sum = 0.0;
+        int terms = 0;
+        for (int d = 0; d < 8; ++d)
+          if ((visible >> d & 1u) != 0 && std::popcount(unsigned(c ^ d)) == ring) {
+            sum += value[d];
+            ++terms;
+          }
+        if (terms > 0) {
+          p = sum / terms;
+          break;
+        }
+      }
+    }
+    v += st.weight(c) * p;
+  }
+  return v;
 }
 
 void LevelSetAdvector::refill(std::span<double> phi, std::span<std::uint8_t> valid,

@@ -12,6 +12,7 @@
 // Nodes outside the shell band take the plain trilinear path.
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -30,6 +31,11 @@ class LevelSetAdvector {
   void advect(std::span<const double> in, const NodeFields& velocity, double dt,
               const ShellGeometry& shells, const geometry::ShellBand* band, std::span<double> out,
               std::vector<std::int64_t>& invalid) const;
+
+  /// φ at `base` by trilinear interpolation over its cell, each node not visible from
+  /// `base` replaced by the ring rule above; nullopt when no node of the cell is visible.
+  std::optional<double> sample_visible(std::span<const double> phi, const Eigen::Vector3d& base,
+                                       const ShellGeometry& shells) const;
 
   /// §3 refill of the listed invalid nodes (`valid` is 0 there, 1 elsewhere; all 1 on
   /// return): Gauss–Jacobi over valid visible neighbours, the positive distance to the
