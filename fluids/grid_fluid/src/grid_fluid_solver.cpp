@@ -168,7 +168,8 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
       throw ConfigError("/sources",
                         "smoke emitters in a water scene: put water emitters in "
                         "/water/sources");
-    m_liquid = std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up);
+    m_liquid =
+        std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up, context.fps);
   }
   for (size_t i = 0; i < sources.size(); ++i) {
     m_sources.emplace_back(sources[i], "/sources/" + std::to_string(i));
@@ -274,9 +275,9 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   for (int a = 0; a < 3; ++a) m_u_n[a] = m_nodes.velocity(a);
 
   // 2. §4.1 semi-Lagrangian advection with visibility (water: φ along the same rays).
-  m_advector.advect(m_nodes, m_next, dt, geom_n, band,
-                    m_liquid ? m_liquid->velocity_nodes(t, dt, speed)
-                             : std::span<const std::uint8_t>());
+  m_advector.advect(
+      m_nodes, m_next, dt, geom_n, band,
+      m_liquid ? m_liquid->velocity_nodes(t, dt, speed) : std::span<const std::uint8_t>());
   if (m_liquid) m_liquid->advect(m_nodes, dt, geom_n, band);
   std::swap(m_nodes, m_next);
 
@@ -295,7 +296,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   if (m_liquid) {  // §4.4.1: φ refilled, then a signed distance again, against shells^{n+1}
     m_liquid->refill(shells ? m_refill.node_valid_before() : std::span<const std::uint8_t>(),
                      geom_np1);
-    m_liquid->reinitialize(geom_np1, band);
+    m_liquid->reinitialize(geom_np1, band, t + dt);
   }
 
   // 5. §4.2 increments back to the persistent faces, with visibility at n+1.
@@ -419,7 +420,10 @@ void GridFluid::save(sdk::StateWriter& out) const {
   write_vector(const_cast<PressureProjection&>(m_projection).scaled_pressure());
   out.write(m_coupling != nullptr);
   if (m_coupling) write_vector(m_coupling->scaled_pressure());
-  if (m_liquid) write_vector(m_liquid->level_set().phi());
+  if (m_liquid) {
+    write_vector(m_liquid->level_set().phi());
+    m_liquid->particles().save(out);
+  }
 }
 
 void GridFluid::restore(sdk::StateReader& in) {
@@ -438,7 +442,10 @@ void GridFluid::restore(sdk::StateReader& in) {
   for (int a = 0; a < 3; ++a) read_vector(m_nodes.velocity(a));
   read_vector(m_projection.scaled_pressure());
   if (in.read<bool>()) read_vector(coupling_pressure().scaled_pressure());
-  if (m_liquid) read_vector(m_liquid->level_set().phi());
+  if (m_liquid) {
+    read_vector(m_liquid->level_set().phi());
+    m_liquid->particles().restore(in);
+  }
   m_geometry_n.reset();
   m_geometry_np1.reset();
   m_nodes_current = false;
@@ -546,6 +553,17 @@ void GridFluid::report(sdk::Metrics& out) const {
     out.set("t_level_set", w.t_level_set);
     out.set("t_reinitialize", w.t_reinitialize);
     out.set("t_extrapolate", w.t_extrapolate);
+    if (m_liquid->particles().enabled()) {
+      const ParticleStats& q = w.particles;
+      out.set("particles_negative", static_cast<double>(q.negative));
+      out.set("particles_positive", static_cast<double>(q.positive));
+      out.set("particles_escaped", static_cast<double>(q.escaped));
+      out.set("particles_corrected_nodes", static_cast<double>(q.corrected_nodes));
+      out.set("particles_deleted_at_shells", static_cast<double>(q.deleted_at_shells));
+      out.set("particles_removed", static_cast<double>(q.removed));
+      out.set("particles_reseeded", static_cast<double>(q.reseeded));
+      out.set("t_particles", q.seconds);
+    }
   } else {
     out.set("smoke_mass", smoke_mass());
   }
@@ -568,6 +586,11 @@ std::vector<sdk::PlanEntry> GridFluid::plan() const {
     out.push_back({"water", true,
                    "/fluid/water given: level set, fast marching, velocity extrapolation, "
                    "free-surface pressure (§4.4)"});
+    out.push_back({"particle_level_set", m_liquid->particles().enabled(),
+                   m_liquid->particles().enabled()
+                       ? "/fluid/water/particles/per_cell > 0: marker particles correct the "
+                         "level set (§4.4.2)"
+                       : "/fluid/water/particles/per_cell = 0: the level set alone"});
     out.push_back({"smoke", false,
                    "a water scene: no density, temperature, buoyancy or "
                    "vorticity confinement"});

@@ -33,6 +33,7 @@ sdk::Schema Liquid::schema() {
       .field("extrapolation", Schema::number(5.0).min(1.0).max(19.0).unit("Δx").doc(
                                   "width of the band into which velocities are extrapolated "
                                   "across the surface (§4.4: 3–5 cells); below `band`"))
+      .field("particles", ParticleLevelSet::schema())
       .field("surface_pressure",
              Schema::string("ghost_fluid")
                  .one_of({"ghost_fluid", "first_order"})
@@ -42,11 +43,12 @@ sdk::Schema Liquid::schema() {
 }
 
 Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
-               const Eigen::Vector3d& up)
+               const Eigen::Vector3d& up, double fps)
     : m_level_set(grid, params.at("band").get<double>() * grid.dx()),
       m_advector(grid),
       m_fast_marching(grid),
-      m_extrapolation(grid) {
+      m_extrapolation(grid),
+      m_particles(params.at("particles"), grid, fps) {
   const double band = params.at("band").get<double>();
   const double width = params.at("extrapolation").get<double>();
   if (!(width < band))
@@ -64,6 +66,7 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   // The pools' planes and boxes are exact distances; meshes and unions are made one.
   m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), ShellGeometry(), nullptr);
   m_initial_volume = m_level_set.volume();
+  m_particles.seed(m_level_set, ShellGeometry());
 }
 
 std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double max_speed) {
@@ -94,6 +97,7 @@ void Liquid::advect(const NodeFields& velocity, double dt, const ShellGeometry& 
   m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid);
   std::swap(m_level_set.phi(), m_scratch);
   m_stats.t_level_set += seconds_since(start);
+  m_particles.advect(velocity, dt, shells, band);
 }
 
 void Liquid::add_sources(double t, DomainBoundary& boundary) {
@@ -121,11 +125,19 @@ void Liquid::refill(std::span<const std::uint8_t> node_valid_before, const Shell
   m_stats.t_level_set += seconds_since(start);
 }
 
-void Liquid::reinitialize(const ShellGeometry& shells, const geometry::ShellBand* band) {
+void Liquid::reinitialize(const ShellGeometry& shells, const geometry::ShellBand* band,
+                          double t_end) {
+  // Enright et al. 2002: the particles correct φ before and after reinitialisation.
+  m_particles.collide(shells);
+  m_particles.correct(m_level_set, shells);
   const auto start = std::chrono::steady_clock::now();
   m_stats.reinitialization =
       m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
   m_stats.t_reinitialize = seconds_since(start);
+  m_particles.correct(m_level_set, shells);
+  m_particles.adjust(m_level_set, shells);
+  m_particles.reseed_if_due(t_end, m_level_set, shells);
+  m_stats.particles = m_particles.stats();
 }
 
 const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::ShellBand* band) {

@@ -5,7 +5,9 @@
 //   add_sources()  emitters union their shapes into φ and hold their faces
 //   refill()       nodes swept by the shells n → n+1 (and those whose stencil saw no
 //                  visible node) take valid values (§3)
-//   reinitialize() fast marching to a signed distance against the shells at n+1
+//   reinitialize() particle paths against the shells at n+1, the particles' correction of
+//                  φ, fast marching to a signed distance against the shells at n+1, the
+//                  correction again, radii, and every few frames a reseeding (§4.4.2)
 //   surface()      the liquid cells and ghost-fluid data for the projection (§4.3)
 //   extrapolate()  after the projection: face velocities across the surface (§4.4)
 // A smoke scene has no Liquid (no level set is built).
@@ -20,6 +22,7 @@
 #include "shellflow/grid_fluid/water/fast_marching.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
 #include "shellflow/grid_fluid/water/level_set_advector.hpp"
+#include "shellflow/grid_fluid/water/particle_level_set.hpp"
 #include "shellflow/grid_fluid/water/velocity_extrapolation.hpp"
 #include "shellflow/grid_fluid/water/water_source.hpp"
 #include "shellflow/sdk/schema.hpp"
@@ -32,6 +35,7 @@ struct LiquidStats {
   ExtrapolationStats extrapolation;
   std::int64_t invalid_nodes = 0;  ///< φ nodes refilled (§3, §4.4.1)
   std::int64_t source_nodes = 0;
+  ParticleStats particles;
   double t_level_set = 0.0;  ///< advection, sources and refill of φ
   double t_reinitialize = 0.0;
   double t_extrapolate = 0.0;
@@ -39,13 +43,17 @@ struct LiquidStats {
 
 class Liquid {
  public:
-  /// The "water" block of the scene (schema()); `up` the pools' up direction.
-  Liquid(const nlohmann::json& params, const grid::UniformGrid& grid, const Eigen::Vector3d& up);
+  /// The "water" block of the scene (schema()); `up` the pools' up direction, `fps` the
+  /// scene's frame rate (the particles' reseeding).
+  Liquid(const nlohmann::json& params, const grid::UniformGrid& grid, const Eigen::Vector3d& up,
+         double fps);
   static sdk::Schema schema();
 
   const LevelSet& level_set() const { return m_level_set; }
   LevelSet& level_set() { return m_level_set; }
   const LiquidStats& stats() const { return m_stats; }
+  const ParticleLevelSet& particles() const { return m_particles; }
+  ParticleLevelSet& particles() { return m_particles; }
   const std::vector<WaterSource>& sources() const { return m_sources; }
   double initial_volume() const { return m_initial_volume; }
 
@@ -55,12 +63,14 @@ class Liquid {
   /// for the ring averaging and reinitialisation, and every node about an emitter that is
   /// on at t. Velocities elsewhere are extrapolated or zero (§4.4): not worth advecting.
   std::span<const std::uint8_t> velocity_nodes(double t, double dt, double max_speed);
+  /// φ along the node velocities' rays, the particles along their second-order paths.
   void advect(const NodeFields& velocity, double dt, const ShellGeometry& shells,
               const geometry::ShellBand* band);
   void add_sources(double t, DomainBoundary& boundary);
   /// `swept` flags (0) the nodes the shells swept n → n+1 (SweptRefill); may be empty.
   void refill(std::span<const std::uint8_t> node_valid_before, const ShellGeometry& shells);
-  void reinitialize(const ShellGeometry& shells, const geometry::ShellBand* band);
+  /// `t_end`: the time at the end of the step.
+  void reinitialize(const ShellGeometry& shells, const geometry::ShellBand* band, double t_end);
   /// The projection's view of the liquid (valid until the next advect()): φ at the cell
   /// centres, the mean of the corners each centre sees (`band`: the cells where rays are
   /// cast; may be null without shells).
@@ -74,6 +84,7 @@ class Liquid {
   LevelSetAdvector m_advector;
   FastMarching m_fast_marching;
   VelocityExtrapolation m_extrapolation;
+  ParticleLevelSet m_particles;
   std::vector<WaterSource> m_sources;
   double m_extrapolation_width = 0.0;  ///< [m]
   std::vector<std::int64_t> m_invalid;

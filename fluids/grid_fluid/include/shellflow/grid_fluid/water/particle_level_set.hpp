@@ -1,0 +1,124 @@
+#pragma once
+// ParticleLevelSet: marker particles of both signs about the water's surface that give the
+// level set back the sub-cell detail it loses in thin films and sharp features (§4.4.2,
+// Guendelman et al. 2005; Enright, Fedkiw, Ferziger, Mitchell 2002; Enright, Losasso,
+// Fedkiw 2005: first-order semi-Lagrangian φ, second-order particles). Liquid calls, per
+// step:
+//   advect()   §4.4.2's second-order path: move with the velocity at the particle, sample
+//              the velocity there, average, and move from the start with the average; each
+//              path is checked against the shells at n (the stationary object)
+//   collide()  the same paths against the shells at n+1, which moved during the step. A
+//              path that crosses a shell deletes an air particle; a water particle is put
+//              back on its own side, its collision distance off the shell along the
+//              triangle's normal, and deleted if that point is not visible from its start
+//   correct()  escaped particles (on the wrong side by more than their radius) rebuild φ
+//              at the corners of their cell that they see: water spheres lower φ, air
+//              spheres raise it, and of the two the value nearer zero wins (Enright 2002,
+//              §3.3); before and after reinitialisation
+//   adjust()   radii to s φ(x) clamped to [0.1Δx, 0.5Δx]; particles deeper than the seeding
+//              band deleted; water particles still more than Δx beyond the surface after
+//              the second correction are removed (spray the grid cannot hold). Escaped
+//              particles nearer than that are kept: removing every particle escaped by
+//              more than its radius, as a first version did, removed nearly all of them
+//              after one correction (a correction leaves φ at the particle near
+//              0.6Δx − r), and Zalesak's sphere (particle_level_set_test) lost all its
+//              volume with them as without them
+//   reseed()   every `reseed_every` frames: band cells holding fewer than `per_cell`
+//              particles get new ones (seeded ignoring the shells, then their sign taken
+//              from φ as seen from them, §4.4.2), cells holding more than twice lose the
+//              excess
+// φ at a particle is read as at a semi-Lagrangian base point (LevelSetAdvector::
+// sample_visible), its velocity from the 8 nodes of its cell with the object's velocity
+// standing in for nodes it does not see (§4.1). Attributes are flat arrays, one per
+// attribute (no per-particle allocation); a particle's random numbers come from its cell
+// and the seeding round, so runs are the same on any thread count.
+
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <vector>
+
+#include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
+#include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/water/level_set.hpp"
+#include "shellflow/grid_fluid/water/level_set_advector.hpp"
+#include "shellflow/sdk/schema.hpp"
+#include "shellflow/sdk/state_buffer.hpp"
+
+namespace shellflow::grid_fluid {
+
+/// What the particles did in the last step.
+struct ParticleStats {
+  std::int64_t negative = 0;           ///< water particles after the step
+  std::int64_t positive = 0;           ///< air particles after the step
+  std::int64_t escaped = 0;            ///< escaped particles used by the two corrections
+  std::int64_t corrected_nodes = 0;    ///< nodes whose φ a correction changed
+  std::int64_t deleted_at_shells = 0;  ///< particles whose path crossed a shell, deleted
+  std::int64_t removed = 0;            ///< water particles removed as escaped (spray)
+  std::int64_t reseeded = 0;           ///< particles added by seeding this step
+  double seconds = 0.0;                ///< wall time of the particle phases
+};
+
+class ParticleLevelSet {
+ public:
+  /// The "particles" block of the water (schema()); `fps` the scene's frame rate.
+  ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& grid, double fps);
+  static sdk::Schema schema();
+
+  bool enabled() const { return m_per_cell > 0; }
+  std::int64_t size() const { return static_cast<std::int64_t>(m_x.size()); }
+  const ParticleStats& stats() const { return m_stats; }
+  /// Particle i's position, sign (−1 water, +1 air) and radius.
+  Eigen::Vector3d position(std::int64_t i) const { return {m_x[i], m_y[i], m_z[i]}; }
+  int sign(std::int64_t i) const { return m_sign[i]; }
+  double radius(std::int64_t i) const { return m_radius[i]; }
+
+  /// Fills the band about φ's surface (the start of a run).
+  void seed(const LevelSet& phi, const ShellGeometry& shells);
+  void advect(const NodeFields& velocity, double dt, const ShellGeometry& shells_n,
+              const geometry::ShellBand* band);
+  void collide(const ShellGeometry& shells_np1);
+  /// Returns the number of nodes changed.
+  std::int64_t correct(LevelSet& phi, const ShellGeometry& shells);
+  void adjust(const LevelSet& phi, const ShellGeometry& shells);
+  /// Reseeds when the frame at time t (after the step) is a multiple of reseed_every.
+  void reseed_if_due(double t, const LevelSet& phi, const ShellGeometry& shells);
+
+  void save(sdk::StateWriter& out) const;
+  void restore(sdk::StateReader& in);
+
+ private:
+  std::optional<double> phi_at(const LevelSet& phi, const Eigen::Vector3d& p,
+                               const ShellGeometry& shells) const;
+  Eigen::Vector3d velocity_at(const NodeFields& velocity, const Eigen::Vector3d& p,
+                              const ShellGeometry& shells, bool rays) const;
+  /// Stops the path from the start position to particle i's position at the shells;
+  /// returns false when the particle must be deleted.
+  bool stop_at_shells(std::int64_t i, const ShellGeometry& shells);
+  void seed_cells(const LevelSet& phi, const ShellGeometry& shells, bool top_up);
+  /// Keeps the particles with keep[i] != 0, in order (and their start positions while
+  /// those are kept in step).
+  void compact(const std::vector<std::uint8_t>& keep);
+  std::int64_t cell_of(std::int64_t i) const;
+
+  grid::UniformGrid m_grid;
+  LevelSetAdvector m_sampler;
+  int m_per_cell = 0;
+  int m_reseed_every = 10;  ///< frames
+  double m_fps = 24.0;
+  std::uint64_t m_seed = 0;
+  std::int64_t m_round = 0;       ///< seeding rounds so far (part of each particle's seed)
+  std::int64_t m_last_frame = 0;  ///< the frame of the last reseed
+  double m_band = 0.0;            ///< seeding band half-width [m]: 3Δx
+  double m_r_min = 0.0, m_r_max = 0.0;
+  double m_remove_beyond = 0.0;  ///< [m]: Δx
+  std::vector<double> m_x, m_y, m_z, m_radius, m_collision;
+  std::vector<std::int8_t> m_sign;
+  std::vector<double> m_x0, m_y0, m_z0;  ///< positions at the start of the step
+  std::vector<double> m_plus, m_minus;   ///< correction scratch, per node (touched only)
+  std::vector<std::uint8_t> m_touched;
+  ParticleStats m_stats;
+};
+
+}  // namespace shellflow::grid_fluid
