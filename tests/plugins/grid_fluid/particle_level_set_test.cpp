@@ -187,6 +187,38 @@ TEST(ParticleLevelSet, WaterParticlesDrivenAtAPlateStayOnTheirSide) {
   EXPECT_GT(near, 0);  // not vacuous: water particles were pressed against the plate
 }
 
+TEST(ParticleLevelSet, EmittedWaterGetsParticlesAsItIsEmitted) {
+  // A stream into an empty tank: its water has water particles from its first step, long
+  // before the first reseeding (frame 10 at 24 fps, t = 0.42 s), and every one of them
+  // lies in water or within the band of it.
+  auto fluid = test::make_fluid({{"resolution", 16},
+                                 {"water",
+                                  {{"particles", {{"per_cell", 8}}},
+                                   {"sources",
+                                    {{{"shape", "cylinder"},
+                                      {"from", {0.5, 0.8, 0.5}},
+                                      {"to", {0.5, 0.9, 0.5}},
+                                      {"radius", 0.1},
+                                      {"velocity", {0.0, -1.0, 0.0}}}}}}}});
+  EXPECT_EQ(fluid->liquid()->particles().size(), 0);
+  double t = 0.0;
+  const double dt = 0.02;
+  for (int s = 0; s < 5; ++s) {
+    fluid->advect(t, dt, {}, {});
+    fluid->project(dt, {}, {});
+    t += dt;
+  }
+  const ParticleLevelSet& p = fluid->liquid()->particles();
+  const LevelSet& phi = fluid->liquid()->level_set();
+  int water = 0;
+  for (std::int64_t i = 0; i < p.size(); ++i) {
+    if (p.sign(i) > 0) continue;
+    ++water;
+    EXPECT_LE(phi.sample(p.position(i)), 3.0 * fluid->grid().dx()) << "particle " << i;
+  }
+  EXPECT_GT(water, 0);
+}
+
 TEST(ParticleLevelSet, SaveAndRestoreGiveTheSameRunBitForBit) {
   // The coupling loop rewinds (§4.3, §6): a step from a restored state must repeat the
   // step from the saved one exactly, particles included.

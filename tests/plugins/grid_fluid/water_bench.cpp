@@ -1,6 +1,7 @@
 // Seconds per step of a three-dimensional dam break in grid_fluid by phase (φ advection
-// with sources and refill; reinitialisation; velocity advection with gravity and the
-// transfer to faces; the projection with the faces → nodes transfer; extrapolation), PCG
+// with sources and refill; reinitialisation; the particles, when on; velocity advection
+// with gravity and the transfer to faces; the projection with the faces → nodes transfer;
+// extrapolation), PCG
 // iterations and the share of the grid the solve, the march and the extrapolation work on,
 // at 64^3 and 128^3; and the peak memory of a run per size,
 // each measured in its own process (ru_maxrss only grows):
@@ -26,12 +27,13 @@ using namespace shellflow;
 
 /// A unit tank, closed; a water column 0.25 m wide and 0.5 m high against the −x wall
 /// across the whole depth (the Martin–Moyce column, extruded).
-std::unique_ptr<grid_fluid::GridFluid> dam_break(int resolution) {
+std::unique_ptr<grid_fluid::GridFluid> dam_break(int resolution, int particles_per_cell = 0) {
   nlohmann::json params = {
       {"resolution", resolution},
       {"pressure", {{"tolerance", 1e-5}}},
       {"water",
-       {{"initial",
+       {{"particles", {{"per_cell", particles_per_cell}}},
+        {"initial",
          nlohmann::json::array(
              {{{"type", "box"}, {"min", {-1.0, -1.0, -1.0}}, {"max", {0.25, 0.5, 2.0}}}})}}}};
   runtime::SchemaValidator validator(".");
@@ -47,6 +49,7 @@ std::unique_ptr<grid_fluid::GridFluid> dam_break(int resolution) {
 struct PhaseTimes {
   double advect = 0.0, project = 0.0;                             // the two solver calls
   double level_set = 0.0, reinitialize = 0.0, extrapolate = 0.0;  // the liquid's share
+  double particles = 0.0, particle_count = 0.0;
   double iterations = 0.0, solve_cells = 0.0, marched = 0.0, extrapolated = 0.0;
   int steps = 0;
 };
@@ -66,6 +69,8 @@ void step(grid_fluid::GridFluid& fluid, double& t, PhaseTimes& times) {
   times.level_set += w.t_level_set;
   times.reinitialize += w.t_reinitialize;
   times.extrapolate += w.t_extrapolate;
+  times.particles += w.particles.seconds;
+  times.particle_count += static_cast<double>(fluid.liquid()->particles().size());
   times.iterations += p.iterations;
   times.solve_cells += static_cast<double>(p.solve_cells);
   times.marched += static_cast<double>(w.reinitialization.marched_nodes);
@@ -77,7 +82,7 @@ constexpr double kWarmUpSeconds = 0.1;  // the column collapsing before timing
 
 void BM_DamBreak(benchmark::State& state) {
   const int resolution = static_cast<int>(state.range(0));
-  auto fluid = dam_break(resolution);
+  auto fluid = dam_break(resolution, static_cast<int>(state.range(1)));
   double t = 0.0;
   PhaseTimes warm_up;
   while (t < kWarmUpSeconds) step(*fluid, t, warm_up);
@@ -89,7 +94,11 @@ void BM_DamBreak(benchmark::State& state) {
   state.counters["level_set_s"] = times.level_set / steps;
   state.counters["reinit_s"] = times.reinitialize / steps;
   state.counters["velocity_advect_s"] =
-      (times.advect - times.level_set - times.reinitialize) / steps;
+      (times.advect - times.level_set - times.reinitialize - times.particles) / steps;
+  state.counters["particles_s"] = times.particles / steps;
+  state.counters["particles"] = times.particle_count / steps;
+  if (times.particles > 0.0)
+    state.counters["particles_per_s"] = times.particle_count / times.particles;
   state.counters["projection_s"] = (times.project - times.extrapolate) / steps;
   state.counters["extrapolate_s"] = times.extrapolate / steps;
   state.counters["pcg_iterations"] = times.iterations / steps;
@@ -99,7 +108,14 @@ void BM_DamBreak(benchmark::State& state) {
   state.counters["marched_share"] = times.marched / steps / cells;
   state.counters["extrapolated_share"] = times.extrapolated / steps / (3.0 * cells);
 }
-BENCHMARK(BM_DamBreak)->Arg(64)->Arg(128)->Unit(benchmark::kMillisecond)->Iterations(3);
+// Args: resolution, particles per cell (0: the level set alone; 16: the particle level set).
+BENCHMARK(BM_DamBreak)
+    ->Args({64, 0})
+    ->Args({64, 16})
+    ->Args({128, 0})
+    ->Args({128, 16})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 
 /// `--peak-memory=N`: the warm-up and three steps of a dam break in this process, then
 /// its peak resident set (getrusage ru_maxrss) printed as "peak_rss_kb <value>".

@@ -102,7 +102,17 @@ void Liquid::advect(const NodeFields& velocity, double dt, const ShellGeometry& 
 
 void Liquid::add_sources(double t, DomainBoundary& boundary) {
   const auto start = std::chrono::steady_clock::now();
-  for (const auto& s : m_sources) m_stats.source_nodes += s.apply(t, m_level_set);
+  m_emitting.clear();
+  for (const auto& s : m_sources) {
+    const std::int64_t nodes = s.apply(t, m_level_set);
+    m_stats.source_nodes += nodes;
+    // Its water gets particles this step (the band's 3Δx about it), not at the next reseed,
+    // and loses the air particles it now covers.
+    if (nodes > 0) {
+      m_particles.drop_air_in_water(m_level_set, s.bounding_nodes(m_level_set.grid(), 0.0));
+      m_emitting.push_back(s.bounding_nodes(m_level_set.grid(), 3.0 * m_level_set.grid().dx()));
+    }
+  }
   for (int a = 0; a < 3; ++a) {
     std::vector<SourceFace> faces;
     for (const auto& s : m_sources) s.append_faces(t, m_level_set.grid(), a, faces);
@@ -136,6 +146,7 @@ void Liquid::reinitialize(const ShellGeometry& shells, const geometry::ShellBand
   m_stats.t_reinitialize = seconds_since(start);
   m_particles.correct(m_level_set, shells);
   m_particles.adjust(m_level_set, shells);
+  for (const grid::IndexBox& box : m_emitting) m_particles.top_up(m_level_set, shells, box);
   m_particles.reseed_if_due(t_end, m_level_set, shells);
   m_stats.particles = m_particles.stats();
 }

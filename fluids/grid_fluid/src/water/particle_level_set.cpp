@@ -126,12 +126,41 @@ void ParticleLevelSet::compact(const std::vector<std::uint8_t>& keep) {
 
 void ParticleLevelSet::seed(const LevelSet& phi, const ShellGeometry& shells) {
   if (!enabled()) return;
-  seed_cells(phi, shells, false);
+  seed_cells(phi, shells, false, nullptr);
   m_stats.negative = std::count(m_sign.begin(), m_sign.end(), std::int8_t(-1));
   m_stats.positive = size() - m_stats.negative;
 }
 
-void ParticleLevelSet::seed_cells(const LevelSet& phi, const ShellGeometry& shells, bool top_up) {
+void ParticleLevelSet::top_up(const LevelSet& phi, const ShellGeometry& shells,
+                              const grid::IndexBox& nodes) {
+  if (!enabled() || nodes.empty()) return;
+  const auto start = std::chrono::steady_clock::now();
+  grid::IndexBox cells{
+      nodes.lo.cwiseMax(0),
+      (nodes.hi - Eigen::Vector3i::Ones()).cwiseMin(m_grid.cells() - Eigen::Vector3i::Ones())};
+  seed_cells(phi, shells, true, &cells);
+  m_stats.seconds += seconds_since(start);
+}
+
+void ParticleLevelSet::drop_air_in_water(const LevelSet& phi, const grid::IndexBox& nodes) {
+  if (!enabled() || nodes.empty()) return;
+  const Eigen::Vector3d lo = m_grid.position(Location::Node, nodes.lo);
+  const Eigen::Vector3d hi = m_grid.position(Location::Node, nodes.hi);
+  std::vector<std::uint8_t> keep(m_x.size(), 1);
+  bool any = false;
+  for (std::int64_t i = 0; i < size(); ++i) {
+    const Eigen::Vector3d x = position(i);
+    if (m_sign[i] < 0 || (x.array() < lo.array()).any() || (x.array() > hi.array()).any()) continue;
+    if (phi.sample(x) <= 0.0) {
+      keep[i] = 0;
+      any = true;
+    }
+  }
+  if (any) compact(keep);
+}
+
+void ParticleLevelSet::seed_cells(const LevelSet& phi, const ShellGeometry& shells, bool top_up,
+                                  const grid::IndexBox* within) {
   const Eigen::Vector3i n = m_grid.cells();
   const std::int64_t cells = m_grid.size(Location::Cell);
   // Particles per cell now (a reseed tops cells up to per_cell and trims them to twice).
@@ -148,9 +177,11 @@ void ParticleLevelSet::seed_cells(const LevelSet& phi, const ShellGeometry& shel
   const double dx = m_grid.dx();
   // A band cell: one of its corners within 3Δx of the surface (Enright et al. 2002).
   std::vector<std::int64_t> band;
-  for (int k = 0; k < n.z(); ++k)
-    for (int j = 0; j < n.y(); ++j)
-      for (int i = 0; i < n.x(); ++i) {
+  const grid::IndexBox all{Eigen::Vector3i::Zero(), n - Eigen::Vector3i::Ones()};
+  const grid::IndexBox& box = within ? *within : all;
+  for (int k = box.lo.z(); k <= box.hi.z(); ++k)
+    for (int j = box.lo.y(); j <= box.hi.y(); ++j)
+      for (int i = box.lo.x(); i <= box.hi.x(); ++i) {
         const std::int64_t cell = m_grid.index(Location::Cell, i, j, k);
         if (count[cell] >= m_per_cell) continue;
         double nearest = std::numeric_limits<double>::infinity();
@@ -354,7 +385,7 @@ void ParticleLevelSet::reseed_if_due(double t, const LevelSet& phi, const ShellG
   const std::int64_t frame = static_cast<std::int64_t>(std::floor(t * m_fps + 1e-9));
   if (frame >= m_last_frame + m_reseed_every) {
     m_last_frame = frame;
-    seed_cells(phi, shells, true);
+    seed_cells(phi, shells, true, nullptr);
   }
   m_stats.negative = std::count(m_sign.begin(), m_sign.end(), std::int8_t(-1));
   m_stats.positive = size() - m_stats.negative;

@@ -86,7 +86,8 @@ class Liquid {
   VelocityExtrapolation m_extrapolation;
   ParticleLevelSet m_particles;
   std::vector<WaterSource> m_sources;
-  double m_extrapolation_width = 0.0;  ///< [m]
+  std::vector<grid::IndexBox> m_emitting;  ///< node boxes of the emitters that set φ this step
+  double m_extrapolation_width = 0.0;      ///< [m]
   std::vector<std::int64_t> m_invalid;
   std::vector<std::uint8_t> m_valid;
   std::vector<double> m_cell_phi;

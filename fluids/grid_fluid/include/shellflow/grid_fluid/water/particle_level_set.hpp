@@ -26,7 +26,8 @@
 //   reseed()   every `reseed_every` frames: band cells holding fewer than `per_cell`
 //              particles get new ones (seeded ignoring the shells, then their sign taken
 //              from φ as seen from them, §4.4.2), cells holding more than twice lose the
-//              excess
+//              excess; the cells about an emitter that is on are topped up every step,
+//              and the air particles its water now covers are dropped
 // φ at a particle is read as at a semi-Lagrangian base point (LevelSetAdvector::
 // sample_visible), its velocity from the 8 nodes of its cell with the object's velocity
 // standing in for nodes it does not see (§4.1). Attributes are flat arrays, one per
@@ -82,6 +83,11 @@ class ParticleLevelSet {
   /// Returns the number of nodes changed.
   std::int64_t correct(LevelSet& phi, const ShellGeometry& shells);
   void adjust(const LevelSet& phi, const ShellGeometry& shells);
+  /// Deletes the air particles in the node box `nodes` that lie in water: an emitter that
+  /// has just set φ there overrides them (they would raise φ back as escaped particles).
+  void drop_air_in_water(const LevelSet& phi, const grid::IndexBox& nodes);
+  /// Tops up the band cells among those of the node box `nodes` (an emitter's water).
+  void top_up(const LevelSet& phi, const ShellGeometry& shells, const grid::IndexBox& nodes);
   /// Reseeds when the frame at time t (after the step) is a multiple of reseed_every.
   void reseed_if_due(double t, const LevelSet& phi, const ShellGeometry& shells);
 
@@ -96,7 +102,10 @@ class ParticleLevelSet {
   /// Stops the path from the start position to particle i's position at the shells;
   /// returns false when the particle must be deleted.
   bool stop_at_shells(std::int64_t i, const ShellGeometry& shells);
-  void seed_cells(const LevelSet& phi, const ShellGeometry& shells, bool top_up);
+  /// Seeds the band cells holding fewer than per_cell (all cells, or those of `within`);
+  /// `top_up`: first trims cells holding more than twice per_cell.
+  void seed_cells(const LevelSet& phi, const ShellGeometry& shells, bool top_up,
+                  const grid::IndexBox* within);
   /// Keeps the particles with keep[i] != 0, in order (and their start positions while
   /// those are kept in step).
   void compact(const std::vector<std::uint8_t>& keep);
