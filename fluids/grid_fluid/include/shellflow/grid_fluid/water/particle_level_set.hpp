@@ -7,7 +7,8 @@
 //   advect()   §4.4.2's second-order path: move with the velocity at the particle, sample
 //              the velocity there, average, and move from the start with the average; each
 //              path is checked against the shells at n (the stationary object)
-//   collide()  the same paths against the shells at n+1, which moved during the step. A
+//   collide()  the same paths against the shells at n+1, which moved during the step (a
+//              segment test at each end, not yet the swept test of a moving shell). A
 //              path that crosses a shell deletes an air particle; a water particle is put
 //              back on its own side, its collision distance off the shell along the
 //              triangle's normal, and deleted if that point is not visible from its start
@@ -17,13 +18,14 @@
 //              §3.3); before and after reinitialisation
 //   adjust()   radii to s φ(x) clamped to [0.1Δx, 0.5Δx]; particles deeper than the seeding
 //              band deleted; water particles still more than Δx beyond the surface after
-//              the second correction are removed (spray the grid cannot hold). Escaped
+//              the second correction are removed (spray the grid cannot hold; counted,
+//              not yet kept as spray particles). Escaped
 //              particles nearer than that are kept: removing every particle escaped by
 //              more than its radius, as a first version did, removed nearly all of them
 //              after one correction (a correction leaves φ at the particle near
 //              0.6Δx − r), and Zalesak's sphere (particle_level_set_test) lost all its
 //              volume with them as without them
-//   reseed()   every `reseed_every` frames: band cells holding fewer than `per_cell`
+//   reseed_if_due()  every `reseed_every` frames: band cells holding fewer than `per_cell`
 //              particles get new ones (seeded ignoring the shells, then their sign taken
 //              from φ as seen from them, §4.4.2), cells holding more than twice lose the
 //              excess; the cells about an emitter that is on are topped up every step,
