@@ -65,7 +65,11 @@ int run_command(const std::string& scene_file, std::optional<int> frames,
 }
 
 int validate_command(const std::string& scene_file) {
+  // A dry run: the scene's schema, then every plugin constructed as `run` constructs it
+  // (the same function, so the same refusals and messages); nothing is written and no
+  // step is taken.
   const auto scene = rt::load_scene(scene_file);
+  rt::construct_plugins(scene);
   std::printf("%s: valid scene '%s' (%s%zu solids, %zu outputs, %d frames at %g fps)\n",
               scene.file.c_str(), scene.name.c_str(), scene.fluid ? "a fluid, " : "no fluid, ",
               scene.solids.size(), scene.outputs.size(), scene.time.frames, scene.time.fps);
@@ -118,7 +122,8 @@ int main(int argc, char** argv) {
   run->add_option("--out", out, "output folder (default: out/<scene name>)");
   run->add_flag("--overwrite", overwrite, "replace the run already in the output folder");
 
-  auto* validate = app.add_subcommand("validate", "check a scene file without running it");
+  auto* validate = app.add_subcommand(
+      "validate", "check a scene and construct its plugins as run does, writing nothing");
   validate->add_option("scene", scene_file, "scene JSON file")->required();
 
   bool brief = false;

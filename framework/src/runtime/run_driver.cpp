@@ -11,6 +11,7 @@
 #include "shellflow/runtime/metrics_csv.hpp"
 #include "shellflow/runtime/output_folder.hpp"
 #include "shellflow/runtime/plugin_instance.hpp"
+#include "shellflow/runtime/schema_validator.hpp"
 #include "shellflow/sdk/atomic_file.hpp"
 #include "shellflow/sdk/error.hpp"
 
@@ -134,28 +135,51 @@ Json run_plan(const Scene& scene, sdk::ShellSet shells, const sdk::FluidSolver* 
 
 }  // namespace
 
+ScenePlugins construct_plugins(const Scene& scene) {
+  ScenePlugins plugins;
+  std::vector<ValidationIssue> issues;
+  // Each refusal is kept with its path and its message as run would print it.
+  const auto attempt = [&](const auto& create) {
+    try {
+      create();
+    } catch (const SceneError& e) {
+      issues.push_back({e.json_path(), e.detail()});
+    }
+  };
+  if (scene.fluid) attempt([&] { plugins.fluid = create_fluid(scene, *scene.fluid); });
+  for (const auto& spec : scene.solids)
+    attempt([&] { plugins.solids.push_back(create_solid(scene, spec)); });
+  for (const auto& spec : scene.outputs)
+    attempt([&] { plugins.writers.push_back(create_writer(scene, spec)); });
+  if (issues.empty()) {
+    std::vector<sdk::SolidSolver*> solid_ptrs;
+    for (auto& s : plugins.solids) solid_ptrs.push_back(s.get());
+    const coupling::CouplingLoop loop(nullptr, solid_ptrs, {});
+    if (auto dup = loop.duplicate_surface_name())
+      issues.push_back({"/solids", "two shells are both named '" + *dup +
+                                       "'; give the solids different \"name\"s"});
+  }
+  if (!issues.empty()) throw SceneValidationError(scene.file.string(), std::move(issues));
+  return plugins;
+}
+
 RunSummary run_scene(const Scene& scene, const RunOptions& options) {
   const auto wall_start = Clock::now();
   const int frames = options.frames.value_or(scene.time.frames);
   if (frames < 1) throw Error("--frames must be at least 1, got " + std::to_string(frames));
   const double frame_dt = 1.0 / scene.time.fps;
 
-  // Everything that can fail on bad input happens before the output folder is touched.
-  std::optional<PluginInstance<sdk::FluidSolver>> fluid;
-  if (scene.fluid) fluid = create_fluid(scene, *scene.fluid);
-  std::vector<PluginInstance<sdk::SolidSolver>> solids;
-  for (const auto& spec : scene.solids) solids.push_back(create_solid(scene, spec));
-  std::vector<PluginInstance<sdk::Writer>> writers;
-  for (const auto& spec : scene.outputs) writers.push_back(create_writer(scene, spec));
+  // Everything that can fail on bad input happens before the output folder is touched,
+  // in the one function `shellflow validate` calls too.
+  ScenePlugins instances = construct_plugins(scene);
+  auto& fluid = instances.fluid;
+  auto& solids = instances.solids;
+  auto& writers = instances.writers;
 
   std::vector<sdk::SolidSolver*> solid_ptrs;
   for (auto& s : solids) solid_ptrs.push_back(s.get());
   coupling::CouplingLoop loop(fluid ? fluid->get() : nullptr, solid_ptrs,
                               {scene.time.cfl, scene.time.max_dt});
-  if (auto dup = loop.duplicate_surface_name())
-    throw SceneError(
-        scene.file.string(), "/solids",
-        "two shells are both named '" + *dup + "'; give the solids different \"name\"s");
 
   RunSummary summary;
   summary.out_dir = options.out.value_or(fs::path("out") / scene.name);

@@ -34,11 +34,72 @@ std::string line_column(const std::string& text, size_t pos) {
   return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
+/// Records the first error of a parse without building a document: the position and the
+/// offending token, so that a syntax error and a number no double can hold (1e400, which
+/// nlohmann::json reports as out_of_range 406 without a position) are both reported with
+/// their line and column.
+class SyntaxCheck : public nlohmann::json_sax<Json> {
+ public:
+  bool null() override { return true; }
+  bool boolean(bool) override { return true; }
+  bool number_integer(number_integer_t) override { return true; }
+  bool number_unsigned(number_unsigned_t) override { return true; }
+  bool number_float(number_float_t, const string_t&) override { return true; }
+  bool string(string_t&) override { return true; }
+  bool binary(binary_t&) override { return true; }
+  bool start_object(std::size_t) override { return true; }
+  bool key(string_t&) override { return true; }
+  bool end_object() override { return true; }
+  bool start_array(std::size_t) override { return true; }
+  bool end_array() override { return true; }
+  bool parse_error(std::size_t position, const std::string& token,
+                   const nlohmann::detail::exception& e) override {
+    m_failed = true;
+    m_overflow = e.id == 406;
+    // The lexer stands just past the token; syntax errors point at its last character
+    // (as parse_error::byte does), an overflowing number at its first.
+    m_offset = m_overflow ? (position >= token.size() ? position - token.size() : 0)
+                          : (position > 0 ? position - 1 : 0);
+    m_token = token;
+    m_what = e.what();
+    return false;
+  }
+
+  bool failed() const { return m_failed; }
+  /// What to tell the user, with the line and column of the problem in `text`.
+  std::string message(const std::string& text) const {
+    if (m_overflow)
+      return "JSON syntax error at " + line_column(text, m_offset) + ": the number " + m_token +
+             " is beyond what a double can hold (magnitude up to about 1.8e308); write a "
+             "finite number";
+    return "JSON syntax error at " + line_column(text, m_offset) + ": " + m_what;
+  }
+
+ private:
+  bool m_failed = false;
+  bool m_overflow = false;
+  size_t m_offset = 0;
+  std::string m_token;
+  std::string m_what;
+};
+
 }  // namespace
+
+bool is_plain_name(const std::string& name) {
+  if (name.empty() || name.front() == '.') return false;
+  for (const char c : name) {
+    const bool ok = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                    c == '_' || c == '-' || c == '.';
+    if (!ok) return false;
+  }
+  return true;
+}
 
 Schema scene_schema() {
   return Schema::object("A shellflow scene.")
-      .field("name", Schema::string().optional().doc("run name; out/<name>/ (default: file stem)"))
+      .field("name", Schema::string().optional().doc(
+                           "run name and folder out/<name>/: letters, digits, '_', '-' and "
+                           "'.', not starting with '.' (default: the file's stem)"))
       .field("description", Schema::string().optional().doc("free text for people"))
       .field("plugin_path", Schema::array(Schema::string())
                                 .optional()
@@ -89,14 +150,12 @@ Scene load_scene(const fs::path& file_in, const std::vector<fs::path>& extra_sea
   std::stringstream buffer;
   buffer << in.rdbuf();
   const std::string text = buffer.str();
-  Json doc;
-  try {
-    doc = Json::parse(text);
-  } catch (const Json::parse_error& e) {
-    throw SceneError(
-        f, "",
-        "JSON syntax error at " + line_column(text, e.byte > 0 ? e.byte - 1 : 0) + ": " + e.what());
-  }
+  // Syntax first (a scene is small: parsing it twice costs nothing), so that every
+  // problem of the text, numbers out of range included, reads the same way.
+  SyntaxCheck syntax;
+  if (!Json::sax_parse(text, &syntax) || syntax.failed())
+    throw SceneError(f, "", syntax.message(text));
+  Json doc = Json::parse(text);
   if (!doc.is_object())
     throw SceneValidationError(
         f, {{"", "expected a JSON object at the top level, found " + describe_value(doc)}});
@@ -176,6 +235,23 @@ Scene load_scene(const fs::path& file_in, const std::vector<fs::path>& extra_sea
       scene.solids.push_back(make_spec(doc["solids"][i], pointer_append("/solids", i)));
     for (size_t i = 0; i < doc["outputs"].size(); ++i)
       scene.outputs.push_back(make_spec(doc["outputs"][i], pointer_append("/outputs", i)));
+  }
+  // The name becomes the run's folder, out/<name>/: a plain file name keeps the run
+  // inside out/ ("../../x" would write two folders above it).
+  if (doc.contains("name") && doc["name"].is_string()) {
+    const std::string name = doc["name"].get<std::string>();
+    if (!is_plain_name(name))
+      validator.add_issue("/name", "the scene name '" + name +
+                                       "' becomes the run's folder out/<name>/, so it must be "
+                                       "a plain file name: letters, digits, '_', '-' and '.', "
+                                       "not starting with '.'");
+  } else if (const std::string stem = file.stem().string();
+             !doc.contains("name") && (stem.empty() || stem.front() == '.')) {
+    // Without "name" the stem is used; other characters in it are the user's own choice
+    // of file name and cannot leave out/, only a leading '.' (".", "..") can.
+    validator.add_issue("/name", "the file name '" + file.filename().string() +
+                                "' starts with '.', so its stem cannot name the run's folder: "
+                                "add a \"name\" (letters, digits, '_', '-' and '.')");
   }
   if (!validator.issues().empty()) throw SceneValidationError(f, validator.issues());
 

@@ -4,6 +4,7 @@
 #include <sstream>
 
 #include "shellflow/runtime/did_you_mean.hpp"
+#include "shellflow/sdk/writer.hpp"
 
 namespace shellflow::runtime {
 
@@ -111,6 +112,8 @@ std::string describe_schema(const SchemaJson& s) {
   else if (kind == "string")
     out = s.contains("choices")
               ? "one of " + quoted_list(s["choices"].get<std::vector<std::string>>())
+          : s.value("format", "") == "subfolder"
+              ? "a sub-folder of the run's output folder (relative, no '..')"
               : "a string";
   else if (kind == "vec3")
     out = "three numbers [x, y, z]";
@@ -159,6 +162,10 @@ void SchemaValidator::validate(Json& v, const SchemaJson& s, const std::string& 
       if (std::find(choices.begin(), choices.end(), text) == choices.end())
         add_issue(path, expected() + did_you_mean(text, choices));
     }
+    if (s.value("format", "") == "subfolder")
+      if (const std::string problem = sdk::subfolder_problem(v.get<std::string>());
+          !problem.empty())
+        add_issue(path, problem);
   } else if (kind == "vec3") {
     bool ok = v.is_array() && v.size() == 3;
     if (ok)

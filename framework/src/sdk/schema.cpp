@@ -86,6 +86,11 @@ Schema& Schema::min_items(int n) {
   m_json["min_items"] = n;
   return *this;
 }
+Schema& Schema::subfolder() {
+  if (kind() != "string") throw Error("Schema::subfolder() called on a " + kind());
+  m_json["format"] = "subfolder";
+  return *this;
+}
 Schema& Schema::optional() {
   m_json["optional"] = true;
   return *this;

@@ -12,7 +12,7 @@ namespace shellflow::mesh_output {
 sdk::Schema mesh_sequence_schema(const std::string& doc) {
   using sdk::Schema;
   return Schema::object(doc)
-      .field("folder", Schema::string("meshes").doc("sub-folder of the run's output folder"))
+      .field("folder", Schema::string("meshes").subfolder().doc("sub-folder of the run's output folder"))
       .field("every",
              Schema::integer(1).min(1).doc("write every n-th frame (frame 0, n, 2n, ...)"));
 }
@@ -31,7 +31,7 @@ MeshSequenceWriter::MeshSequenceWriter(const nlohmann::json& params, std::string
       m_extension(std::move(extension)),
       m_every(params.value("every", 1)) {
   if (m_every < 1) throw ConfigError("/every", "must be at least 1");
-  if (m_folder_name.empty()) throw ConfigError("/folder", "must not be empty");
+  sdk::check_subfolder(m_folder_name, "/folder");
 }
 
 void MeshSequenceWriter::begin(const sdk::RunInfo& info) {

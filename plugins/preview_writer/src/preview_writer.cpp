@@ -38,7 +38,7 @@ sdk::Schema PreviewWriter::schema() {
              "with Beer-Lambert absorption, the water surface (level set phi = 0) ray-cast and "
              "shaded, shells as shaded opaque triangles that hide the smoke and water behind "
              "them")
-      .field("folder", Schema::string("previews").doc("sub-folder of the run's output folder"))
+      .field("folder", Schema::string("previews").subfolder().doc("sub-folder of the run's output folder"))
       .field("every", Schema::integer(1).min(1).doc("write every n-th frame (frame 0, n, 2n, ...)"))
       .field("camera",
              Schema::object("pinhole camera")
@@ -125,7 +125,7 @@ PreviewWriter::PreviewWriter(const nlohmann::json& params, const sdk::Context& /
       m_every(params.value("every", 1)),
       m_renderer(preview_settings_from_json(params)) {
   if (m_every < 1) throw ConfigError("/every", "must be at least 1");
-  if (m_folder_name.empty()) throw ConfigError("/folder", "must not be empty");
+  sdk::check_subfolder(m_folder_name, "/folder");
 }
 
 void PreviewWriter::begin(const sdk::RunInfo& info) {

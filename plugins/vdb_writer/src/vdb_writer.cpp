@@ -23,7 +23,7 @@ sdk::Schema VdbWriter::schema() {
              "the water's level set phi as the narrow-band level set FloatGrid \"surface\", "
              "class LEVEL_SET, background = its band half-width in metres, negative inside "
              "the water); readable by Blender and Houdini")
-      .field("folder", Schema::string("volumes").doc("sub-folder of the run's output folder"))
+      .field("folder", Schema::string("volumes").subfolder().doc("sub-folder of the run's output folder"))
       .field("every", Schema::integer(1).min(1).doc("write every n-th frame (frame 0, n, 2n, ...)"))
       .field("background_tolerance",
              Schema::number(1e-4).min(0.0).doc(
@@ -50,7 +50,7 @@ VdbWriter::VdbWriter(const nlohmann::json& params, const sdk::Context& /*context
   m_options.half_float = params.value("half_float", false);
   m_options.level_set_half_width = params.value("level_set_half_width", 3.0);
   if (m_every < 1) throw ConfigError("/every", "must be at least 1");
-  if (m_folder_name.empty()) throw ConfigError("/folder", "must not be empty");
+  sdk::check_subfolder(m_folder_name, "/folder");
   if (!(m_options.background_tolerance >= 0.0))
     throw ConfigError("/background_tolerance", "must be a number >= 0");
   if (m_options.velocity_name != "velocity" && m_options.velocity_name != "vel")

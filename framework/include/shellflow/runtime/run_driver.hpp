@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "shellflow/runtime/plugin_instance.hpp"
 #include "shellflow/runtime/progress.hpp"
 #include "shellflow/runtime/scene.hpp"
 
@@ -36,6 +37,21 @@ struct RunSummary {
   double wall_seconds = 0.0;
   std::string message;  ///< for Interrupted / NumericalFailure: what, where, what to try
 };
+
+/// Every plugin of a scene, constructed.
+struct ScenePlugins {
+  std::optional<PluginInstance<sdk::FluidSolver>> fluid;
+  std::vector<PluginInstance<sdk::SolidSolver>> solids;
+  std::vector<PluginInstance<sdk::Writer>> writers;
+};
+
+/// Constructs every plugin of `scene` as `run` does before its first step (meshes read and
+/// checked, keyframes checked, pins resolved, domains checked) and checks that the shells'
+/// names are unique; writes nothing. Every plugin is tried even when an earlier one fails,
+/// so that one call reports every refusal. This is the whole of `shellflow validate` after
+/// load_scene(), and the first thing run_scene() does: both refuse with the same messages.
+/// @throw SceneValidationError listing each refusal (file, JSON path, message).
+ScenePlugins construct_plugins(const Scene& scene);
 
 /// @throw SceneError, PluginError, IoError before anything is written; IoError later.
 RunSummary run_scene(const Scene& scene, const RunOptions& options);

@@ -48,10 +48,14 @@ struct Scene {
 /// The runtime's own part of the scene schema (plugin entries are "plugin" nodes).
 sdk::Schema scene_schema();
 
+/// True when `name` can be a folder name of its own: letters, digits, '_', '-' and '.',
+/// not empty and not starting with '.' (so neither "." nor ".." nor a hidden folder).
+bool is_plain_name(const std::string& name);
+
 /// Reads, validates and resolves a scene. The registry searches the scene's
 /// "plugin_path" first, then `extra_search_dirs` (normally the default search path).
 /// @throw IoError (unreadable file), SceneValidationError (every problem found),
-///        SceneError (bad JSON syntax, with line and column).
+///        SceneError (bad JSON syntax or a number beyond a double, with line and column).
 Scene load_scene(const std::filesystem::path& file,
                  const std::vector<std::filesystem::path>& extra_search_dirs =
                      PluginRegistry::default_search_dirs());

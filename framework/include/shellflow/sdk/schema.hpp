@@ -55,6 +55,9 @@ class Schema {
   Schema& max(double bound, bool inclusive = true);
   Schema& one_of(std::initializer_list<std::string> choices);  ///< for strings
   Schema& min_items(int n);                                     ///< for arrays and lists
+  /// For strings naming a writer's sub-folder of the run's output folder: the validator
+  /// refuses absolute paths and ".." components (sdk::subfolder_problem) at their path.
+  Schema& subfolder();
   Schema& optional();
   /// A default for containers and lists (leaves take theirs in the constructor).
   Schema& default_value(const Json& value);

@@ -25,8 +25,17 @@ struct FrameView {
   const FluidSolver* fluid = nullptr;
 };
 
+/// Why `folder` cannot be a sub-folder of the run's output folder, or "" when it can: it
+/// must be a non-empty relative path without ".." components, so that a writer's files stay
+/// inside out/<scene>/ (an absolute path would replace the run folder, ".." leave it).
+std::string subfolder_problem(const std::string& folder);
+
+/// subfolder_problem() as a ConfigError at `json_path` (a writer's "folder" parameter).
+void check_subfolder(const std::string& folder, const std::string& json_path);
+
 /// Creates (if needed) the sub-folder `name` of the run's output folder, where a writer
-/// puts its files, and returns it. @throw IoError naming the folder.
+/// puts its files, and returns it. @throw IoError naming the folder, also when `name`
+/// would leave the run folder (see subfolder_problem).
 std::filesystem::path make_output_subfolder(const RunInfo& info, const std::string& name);
 
 class Writer {
