@@ -98,8 +98,8 @@ bool is_plain_name(const std::string& name) {
 Schema scene_schema() {
   return Schema::object("A shellflow scene.")
       .field("name", Schema::string().optional().doc(
-                           "run name and folder out/<name>/: letters, digits, '_', '-' and "
-                           "'.', not starting with '.' (default: the file's stem)"))
+                         "run name and folder out/<name>/: letters, digits, '_', '-' and "
+                         "'.', not starting with '.' (default: the file's stem)"))
       .field("description", Schema::string().optional().doc("free text for people"))
       .field("plugin_path", Schema::array(Schema::string())
                                 .optional()
@@ -120,23 +120,25 @@ Schema scene_schema() {
                                 .min(0.0, false)
                                 .max(5.0)
                                 .doc("fluid CFL number for the step size")))
-      .field("coupling", Schema::object("how fluid and solids exchange forces (§6)")
-                             .field("scheme", Schema::string("staggered")
-                                                  .one_of({"staggered"})
-                                                  .doc("'staggered': the paper's §6 loop"))
-                             .field("max_speed",
-                                    Schema::number(340.0).min(0.0, false).unit("m/s").doc(
-                                        "stability guard: a fluid or shell speed above this "
-                                        "stops the run, keeping the frames written so far "
-                                        "(default: the speed of sound in air, past which "
-                                        "an incompressible model means nothing)")))
+      .field("coupling",
+             Schema::object("how fluid and solids exchange forces (§6)")
+                 .field("scheme", Schema::string("staggered")
+                                      .one_of({"staggered"})
+                                      .doc("'staggered': the paper's §6 loop"))
+                 .field("max_speed", Schema::number(340.0)
+                                         .min(0.0, false)
+                                         .unit("m/s")
+                                         .doc("stability guard: a fluid or shell speed above this "
+                                              "stops the run, keeping the frames written so far "
+                                              "(default: the speed of sound in air, past which "
+                                              "an incompressible model means nothing)")))
       .field("fluid", plugin_node("fluid", "the fluid solver").optional())
       .field("solids", Schema::array(plugin_node("solid", "a solid solver"))
-                             .default_value(Json::array())
-                             .doc("solid solvers"))
+                           .default_value(Json::array())
+                           .doc("solid solvers"))
       .field("outputs", Schema::array(plugin_node("writer", "an output writer"))
-                              .default_value(Json::array())
-                              .doc("output writers"));
+                            .default_value(Json::array())
+                            .doc("output writers"));
 }
 
 Scene load_scene(const fs::path& file_in, const std::vector<fs::path>& extra_search_dirs) {
@@ -250,8 +252,8 @@ Scene load_scene(const fs::path& file_in, const std::vector<fs::path>& extra_sea
     // Without "name" the stem is used; other characters in it are the user's own choice
     // of file name and cannot leave out/, only a leading '.' (".", "..") can.
     validator.add_issue("/name", "the file name '" + file.filename().string() +
-                                "' starts with '.', so its stem cannot name the run's folder: "
-                                "add a \"name\" (letters, digits, '_', '-' and '.')");
+                                     "' starts with '.', so its stem cannot name the run's folder: "
+                                     "add a \"name\" (letters, digits, '_', '-' and '.')");
   }
   if (!validator.issues().empty()) throw SceneValidationError(f, validator.issues());
 

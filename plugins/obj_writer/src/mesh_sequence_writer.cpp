@@ -12,7 +12,8 @@ namespace shellflow::mesh_output {
 sdk::Schema mesh_sequence_schema(const std::string& doc) {
   using sdk::Schema;
   return Schema::object(doc)
-      .field("folder", Schema::string("meshes").subfolder().doc("sub-folder of the run's output folder"))
+      .field("folder",
+             Schema::string("meshes").subfolder().doc("sub-folder of the run's output folder"))
       .field("every",
              Schema::integer(1).min(1).doc("write every n-th frame (frame 0, n, 2n, ...)"));
 }

@@ -38,7 +38,8 @@ sdk::Schema PreviewWriter::schema() {
              "with Beer-Lambert absorption, the water surface (level set phi = 0) ray-cast and "
              "shaded, shells as shaded opaque triangles that hide the smoke and water behind "
              "them")
-      .field("folder", Schema::string("previews").subfolder().doc("sub-folder of the run's output folder"))
+      .field("folder",
+             Schema::string("previews").subfolder().doc("sub-folder of the run's output folder"))
       .field("every", Schema::integer(1).min(1).doc("write every n-th frame (frame 0, n, 2n, ...)"))
       .field("camera",
              Schema::object("pinhole camera")

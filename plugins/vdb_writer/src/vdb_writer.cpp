@@ -23,7 +23,8 @@ sdk::Schema VdbWriter::schema() {
              "the water's level set phi as the narrow-band level set FloatGrid \"surface\", "
              "class LEVEL_SET, background = its band half-width in metres, negative inside "
              "the water); readable by Blender and Houdini")
-      .field("folder", Schema::string("volumes").subfolder().doc("sub-folder of the run's output folder"))
+      .field("folder",
+             Schema::string("volumes").subfolder().doc("sub-folder of the run's output folder"))
       .field("every", Schema::integer(1).min(1).doc("write every n-th frame (frame 0, n, 2n, ...)"))
       .field("background_tolerance",
              Schema::number(1e-4).min(0.0).doc(
