@@ -5,8 +5,11 @@
 
 #include <array>
 #include <cmath>
+#include <cstdlib>
+#include <fstream>
 #include <map>
 #include <numbers>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -226,12 +229,54 @@ SurfaceMesh make_sphere(double radius, int subdivisions) {
   return to_mesh(nodes, triangles);
 }
 
+namespace {
+
+/// The line of each "v" statement of an OBJ file, after checking that its three
+/// coordinates are finite numbers. tinyobjloader parses numbers itself and reads "nan" as
+/// 0 without a word, and keeps no line numbers: hence this scan. @throw IoError naming the
+/// file, the line and the vertex (1-based, as faces count them).
+std::vector<int> scan_obj_vertices(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  std::vector<int> lines;
+  std::string text;
+  static constexpr const char* kAxis[3] = {"x", "y", "z"};
+  for (int line = 1; std::getline(in, text); ++line) {
+    size_t i = text.find_first_not_of(" \t");
+    if (i == std::string::npos || text[i] != 'v' || i + 1 >= text.size() ||
+        (text[i + 1] != ' ' && text[i + 1] != '\t'))
+      continue;  // not a "v" statement ("vt", "vn", comments and faces are tinyobj's)
+    lines.push_back(line);
+    const int vertex = static_cast<int>(lines.size());
+    std::istringstream fields(text.substr(i + 1));
+    const std::string where =
+        file.string() + ":" + std::to_string(line) + ": vertex " + std::to_string(vertex);
+    for (int axis = 0; axis < 3; ++axis) {
+      std::string token;
+      if (!(fields >> token))
+        throw IoError(where + " has " + std::to_string(axis) +
+                      " coordinates; a vertex needs three (\"v x y z\")");
+      char* end = nullptr;
+      const double value = std::strtod(token.c_str(), &end);
+      if (end == token.c_str() || *end != '\0')
+        throw IoError(where + ": its " + kAxis[axis] + " coordinate '" + token +
+                      "' is not a number");
+      if (!std::isfinite(value))
+        throw IoError(where + " has a non-finite coordinate (" + kAxis[axis] + " = " + token +
+                      "); every coordinate must be a finite number");
+    }
+  }
+  return lines;
+}
+
+}  // namespace
+
 SurfaceMesh load_obj(const std::filesystem::path& file) {
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec))
     throw IoError(file.string() +
                   ": cannot read the OBJ file: no such file (check the path; "
                   "a relative path is taken from the scene file's folder)");
+  const std::vector<int> vertex_lines = scan_obj_vertices(file);
   tinyobj::attrib_t attrib;
   std::vector<tinyobj::shape_t> shapes;
   std::vector<tinyobj::material_t> materials;
@@ -243,7 +288,8 @@ SurfaceMesh load_obj(const std::filesystem::path& file) {
   if (!warning.empty()) spdlog::warn("{}: {}", file.string(), warning);
 
   // Only vertices that some face uses become mesh nodes (an orphan node would carry no
-  // area and no mass); they keep the file's order.
+  // area and no mass); they keep the file's order. How many were dropped is kept for
+  // check_mesh(), which reports them as each solid decides.
   const size_t vertex_count = attrib.vertices.size() / 3;
   std::vector<std::array<int, 3>> triangles;
   std::vector<char> used(vertex_count, 0);
@@ -266,23 +312,44 @@ SurfaceMesh load_obj(const std::filesystem::path& file) {
       offset += 3;
     }
   }
-  std::vector<int> renumber(vertex_count, -1);
-  std::vector<Eigen::Vector3d> nodes;
-  for (size_t v = 0; v < vertex_count; ++v)
-    if (used[v]) {
-      renumber[v] = static_cast<int>(nodes.size());
-      nodes.emplace_back(attrib.vertices[3 * v], attrib.vertices[3 * v + 1],
-                         attrib.vertices[3 * v + 2]);
-    }
-  for (auto& triangle : triangles)
-    for (int& v : triangle) v = renumber[v];
   if (triangles.empty())
     throw IoError(file.string() + ": the OBJ file holds no faces; a shell needs triangles");
-  return to_mesh(nodes, triangles);
+  // Line numbers only when both readers agree on the vertices (a construct the scan does
+  // not know, such as a line continuation, leaves them out rather than wrong).
+  const bool have_lines = vertex_lines.size() == vertex_count;
+  auto origin = std::make_shared<MeshOrigin>();
+  origin->file = file;
+  std::vector<int> renumber(vertex_count, -1);
+  std::vector<Eigen::Vector3d> nodes;
+  for (size_t v = 0; v < vertex_count; ++v) {
+    const int line = have_lines ? vertex_lines[v] : 0;
+    if (!used[v]) {
+      if (origin->unreferenced_count++ == 0) {
+        origin->first_unreferenced = static_cast<int>(v) + 1;
+        origin->first_unreferenced_line = line;
+      }
+      continue;
+    }
+    renumber[v] = static_cast<int>(nodes.size());
+    nodes.emplace_back(attrib.vertices[3 * v], attrib.vertices[3 * v + 1],
+                       attrib.vertices[3 * v + 2]);
+    origin->vertex_number.push_back(static_cast<int>(v) + 1);
+    origin->vertex_line.push_back(line);
+  }
+  for (auto& triangle : triangles)
+    for (int& v : triangle) v = renumber[v];
+  SurfaceMesh mesh = to_mesh(nodes, triangles);
+  mesh.origin = std::move(origin);
+  return mesh;
 }
 
 sdk::Schema mesh_schema() {
   using sdk::Schema;
+  // Counts along one side are capped so that a typo cannot ask for billions of nodes: 4096²
+  // nodes (16.8 M) is far beyond what a shell in this simulator is run with. Lengths are
+  // positive numbers; box sizes (vec3, which the schema cannot bound) are checked in
+  // make_mesh; sphere subdivisions and box divisions have their own caps.
+  constexpr double kMaxNodesPerSide = 4096;
   auto length = [](double value, const std::string& doc) {
     return Schema::number(value).min(0.0, false).unit("m").doc(doc);
   };
@@ -292,8 +359,10 @@ sdk::Schema mesh_schema() {
                              "(i, j) has index i + nodes_u·j")
                   .field("width", length(1.0, "side along x"))
                   .field("height", length(1.0, "side along y"))
-                  .field("nodes_u", Schema::integer(11).min(2).doc("nodes along x"))
-                  .field("nodes_v", Schema::integer(11).min(2).doc("nodes along y"))
+                  .field("nodes_u",
+                         Schema::integer(11).min(2).max(kMaxNodesPerSide).doc("nodes along x"))
+                  .field("nodes_v",
+                         Schema::integer(11).min(2).max(kMaxNodesPerSide).doc("nodes along y"))
                   .field("pattern", Schema::string("regular")
                                         .one_of({"regular", "herringbone", "alternating"})
                                         .doc("quad diagonals: all alike, alternating per column "
@@ -310,15 +379,18 @@ sdk::Schema mesh_schema() {
                                                  .doc("side lengths along x, y, z (positive)"))
                               .field("divisions", Schema::integer(4).min(1).max(256).doc(
                                                       "cells per edge on every face")))
-      .option("open_cylinder",
-              Schema::object("cylinder side about +y from y = 0 to y = height, open at the "
-                             "top (a cup)")
-                  .field("radius", length(0.5, "radius"))
-                  .field("height", length(1.0, "height"))
-                  .field("segments", Schema::integer(32).min(3).doc("nodes around the axis"))
-                  .field("rings", Schema::integer(8).min(1).doc("cells along the axis"))
-                  .field("bottom_cap",
-                         Schema::boolean(true).doc("close the bottom with a triangle fan")))
+      .option(
+          "open_cylinder",
+          Schema::object("cylinder side about +y from y = 0 to y = height, open at the "
+                         "top (a cup)")
+              .field("radius", length(0.5, "radius"))
+              .field("height", length(1.0, "height"))
+              .field("segments",
+                     Schema::integer(32).min(3).max(kMaxNodesPerSide).doc("nodes around the axis"))
+              .field("rings",
+                     Schema::integer(8).min(1).max(kMaxNodesPerSide).doc("cells along the axis"))
+              .field("bottom_cap",
+                     Schema::boolean(true).doc("close the bottom with a triangle fan")))
       .option("sphere",
               Schema::object("icosphere centred at the origin, outward normals")
                   .field("radius", length(0.5, "radius"))
@@ -376,7 +448,11 @@ SurfaceMesh make_mesh(const nlohmann::json& spec, const std::string& json_path) 
                        field<int>(spec, fields, "subdivisions"));
   if (!spec.contains("file") || !spec.at("file").is_string())
     throw ConfigError(json_path + "/file", "an \"obj\" mesh needs \"file\": the path of an .obj");
-  return load_obj(spec.at("file").get<std::string>());
+  try {
+    return load_obj(spec.at("file").get<std::string>());
+  } catch (const IoError& e) {
+    throw ConfigError(json_path + "/file", e.what());
+  }
 }
 
 sdk::Schema transform_schema() {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "shellflow/bullet_rigid/fluid_wrench.hpp"
+#include "shellflow/geometry/mesh_checks.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
@@ -119,8 +120,14 @@ std::vector<RigidShellSpec> bodies_from_json(const nlohmann::json& params) {
     if (j.contains("transform"))
       geometry::apply_transform(
           geometry::transform_from_json(j.at("transform"), path + "/transform"), b.mesh);
-    if (b.mesh.triangles.rows() == 0)
-      throw ConfigError(path + "/mesh", "the mesh has no triangles");
+    // A rigid shell needs no edge topology: mass properties sum over triangles and Bullet's
+    // GImpact collides triangle by triangle, so an edge of three or more triangles and
+    // dropped vertices (no parameter addresses a node) are warnings. A zero-area triangle
+    // is an error: GImpact normalises each triangle's normal for its contact plane
+    // (btPrimitiveTriangle::buildTriPlane), which is NaN for zero area.
+    using Severity = geometry::MeshCheckSeverity;
+    geometry::check_mesh(b.mesh, {Severity::Error, Severity::Warning, Severity::Warning},
+                         path + "/mesh", "body '" + b.name + "'");
     b.surface_density = j.value("surface_density", 1.0);
     b.motion = j.value("motion", std::string("dynamic")) == "kinematic" ? Motion::Kinematic
                                                                         : Motion::Dynamic;

@@ -1,5 +1,6 @@
 #include "shellflow/kinematic_shell/kinematic_shell.hpp"
 
+#include "shellflow/geometry/mesh_checks.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/sdk/error.hpp"
 
@@ -24,6 +25,14 @@ KinematicShell::KinematicShell(const nlohmann::json& params, const sdk::Context&
   geometry::apply_transform(geometry::transform_from_json(
                                 params.value("transform", nlohmann::json::object()), "/transform"),
                             mesh);
+  // A scripted shell copes with every mesh defect, so each is a warning with its count:
+  // the script moves nodes without a rest shape or edge topology; a zero-area triangle
+  // carries no mass and no fluid force (both scale with area); no parameter addresses a
+  // node by index, so dropped vertices change nothing. (A solid that collides with this
+  // shell sees its triangles as they are.)
+  using Severity = geometry::MeshCheckSeverity;
+  geometry::check_mesh(mesh, {Severity::Warning, Severity::Warning, Severity::Warning}, "/mesh",
+                       context.instance_name);
   m_rest = mesh.positions;
   m_motion = make_motion(params.value("motion", nlohmann::json()), "/motion");
   const double density = params.value("surface_density", 1.0);

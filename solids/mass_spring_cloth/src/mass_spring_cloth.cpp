@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "mass_spring_cloth/node_selection.hpp"
+#include "shellflow/geometry/mesh_checks.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
@@ -120,6 +121,15 @@ MassSpringCloth::MassSpringCloth(const nlohmann::json& params, const sdk::Contex
   auto mesh = geometry::make_mesh(params.at("mesh"));
   if (params.contains("transform"))
     geometry::apply_transform(geometry::transform_from_json(params.at("transform")), mesh);
+  // Cloth refuses every mesh defect. A zero-area triangle has no rest shape: spring
+  // stiffnesses divide by rest lengths and bending weights are cotangents of its angles. A
+  // vertex no triangle uses is dropped, which renumbers the nodes after it, and "pins" and
+  // "attachments" select nodes by index. An edge of three or more triangles has no bending
+  // stencil (Bergou et al. 2006 pair the two triangles of an edge) and no inside/outside for
+  // self-collision.
+  using Severity = geometry::MeshCheckSeverity;
+  geometry::check_mesh(mesh, {Severity::Error, Severity::Error, Severity::Error}, "/mesh",
+                       context.instance_name);
   std::optional<GridShape> grid;
   if (params.at("mesh").value("type", "") == "grid") {
     // Missing counts take the mesh schema's defaults, as make_mesh does.

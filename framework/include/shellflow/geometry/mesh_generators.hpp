@@ -16,17 +16,31 @@
 
 #include <Eigen/Geometry>
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "shellflow/sdk/schema.hpp"
 #include "shellflow/sdk/shell_surface.hpp"
 
 namespace shellflow::geometry {
 
+/// Where a mesh read from a file came from, so that check_mesh() can name the file, the
+/// line and the vertex of a problem (null for generated meshes: they name node indices).
+struct MeshOrigin {
+  std::filesystem::path file;
+  std::vector<int> vertex_number;  ///< per mesh node: its 1-based vertex number in the file
+  std::vector<int> vertex_line;    ///< per mesh node: the line of its "v" (0: unknown)
+  int unreferenced_count = 0;      ///< vertices of the file that no face uses (dropped)
+  int first_unreferenced = 0;      ///< the 1-based number of the first of them
+  int first_unreferenced_line = 0;
+};
+
 struct SurfaceMesh {
   sdk::Positions positions;
   sdk::Triangles triangles;
+  std::shared_ptr<const MeshOrigin> origin;  ///< set by load_obj
 };
 
 /// How each grid quad is split into two triangles.
@@ -42,15 +56,20 @@ SurfaceMesh make_open_box(const Eigen::Vector3d& size, int divisions);
 SurfaceMesh make_open_cylinder(double radius, double height, int segments, int rings,
                                bool bottom_cap);
 SurfaceMesh make_sphere(double radius, int subdivisions);
-/// Reads an OBJ file (tinyobjloader), triangulating polygons. Throws IoError.
+/// Reads an OBJ file (tinyobjloader), triangulating polygons and dropping the vertices no
+/// face uses (counted in the result's `origin` for check_mesh()). Throws IoError naming the
+/// file, and the line and vertex for a coordinate that is not a finite number (tinyobjloader
+/// would read "nan" as 0, so the "v" lines are scanned here first), for a face index out of
+/// range and for a file without faces.
 SurfaceMesh load_obj(const std::filesystem::path& file);
 
 /// The "mesh" variant schema (one option per generator, plus "obj").
 sdk::Schema mesh_schema();
 /// Builds the mesh described by a validated "mesh" object (absent fields take the schema's
 /// defaults). Throws ConfigError at `json_path` + "/<field>" for values the schema cannot
-/// check, IoError for an unreadable OBJ file. The generators themselves throw
-/// std::invalid_argument for out-of-range arguments.
+/// check, and at `json_path` + "/file" for an OBJ file load_obj() refuses (the message is
+/// load_obj's). The generators themselves throw std::invalid_argument for out-of-range
+/// arguments. The mesh is not checked here: solids call check_mesh() after "transform".
 SurfaceMesh make_mesh(const nlohmann::json& spec, const std::string& json_path = "/mesh");
 
 /// The "transform" object schema: scale, then rotation about an axis, then translation.
