@@ -25,8 +25,12 @@ struct Result {
 
 class Cli : public shellflow::testing::ScratchFolder {
  protected:
-  Result shellflow(const std::string& args) {
-    const std::string cmd = std::string(SHELLFLOW_CLI) + " " + args + " 2>&1";
+  Result shellflow(const std::string& args) { return run_in("", args); }
+  /// The same, with `dir` as the working folder (where out/<scene name> goes by default).
+  Result shellflow_in(const fs::path& dir, const std::string& args) { return run_in(dir, args); }
+  Result run_in(const fs::path& dir, const std::string& args) {
+    const std::string cd = dir.empty() ? "" : "cd '" + dir.string() + "' && ";
+    const std::string cmd = cd + std::string(SHELLFLOW_CLI) + " " + args + " 2>&1";
     FILE* pipe = popen(cmd.c_str(), "r");
     std::string out;
     char buf[4096];
@@ -57,6 +61,63 @@ TEST_F(Cli, PluginsListsTheTemplateWithItsParameters) {
   EXPECT_EQ(r.exit_code, 0);
   EXPECT_THAT(r.output, HasSubstr("template_solid (solid plugin"));
   EXPECT_THAT(r.output, HasSubstr("surface_density: a number > 0 [kg/m^2]"));
+}
+
+TEST_F(Cli, NumberBeyondADoubleIsAnInputErrorWithLineAndColumn) {
+  // Was "internal error" with exit code 2: nlohmann::json's out_of_range for 1e400.
+  const auto file =
+      scene("{\"solids\": [{\"plugin\": \"template_solid\"}],\n \"gravity\": [0, 1e400, 0]}");
+  for (const char* command : {"validate ", "run "}) {
+    const auto r = shellflow(command + file);
+    EXPECT_EQ(r.exit_code, 1) << command << r.output;
+    EXPECT_THAT(r.output,
+                HasSubstr("scene.json: JSON syntax error at line 2, column 17: the number 1e400"));
+    EXPECT_THAT(r.output, ::testing::Not(HasSubstr("internal error")));
+  }
+}
+
+TEST_F(Cli, SceneNameCannotLeadOutOfTheOutputFolder) {
+  // Run from m_dir/a/b, where out/../../escaped_<pid> is m_dir/a/escaped_<pid>.
+  const std::string name = "escaped_" + std::to_string(::getpid());
+  fs::create_directories(m_dir / "a" / "b");
+  const auto file = scene(R"({"name": "../../)" + name + R"(", "time": {"frames": 1},
+      "solids": [{"plugin": "template_solid"}], "outputs": [{"plugin": "obj_writer"}]})");
+  const auto r = shellflow_in(m_dir / "a" / "b", "run " + file);
+  EXPECT_EQ(r.exit_code, 1) << r.output;
+  EXPECT_THAT(r.output, HasSubstr("scene.json: /name: the scene name '../../" + name + "'"));
+  EXPECT_FALSE(fs::exists(m_dir / "a" / name));
+  EXPECT_FALSE(fs::exists(m_dir / "a" / "b" / "out"));
+}
+
+TEST_F(Cli, ValidateConstructsEveryPluginAsRunDoesAndWritesNothing) {
+  // Two problems only construction finds: key times out of order (the schema cannot see
+  // it) and a NaN vertex in an OBJ. Before, validate passed this scene and run refused it.
+  write("nan.obj", "v 0 0 0\nv 1 0 0\nv 0 nan 0\nf 1 2 3\n");
+  const std::string name = "dry_run_" + std::to_string(::getpid());
+  const auto file = scene(R"({"name": ")" + name + R"(", "solids": [
+      {"plugin": "kinematic_shell", "mesh": {"type": "sphere"},
+       "motion": {"type": "keyframes", "keys": [{"time": 1}, {"time": 0.5}]}},
+      {"plugin": "mass_spring_cloth", "mesh": {"type": "obj", "file": "nan.obj"}}],
+      "outputs": [{"plugin": "obj_writer"}]})");
+  const auto validate = shellflow_in(m_dir, "validate " + file);
+  EXPECT_EQ(validate.exit_code, 1) << validate.output;
+  const std::string keys = "scene.json: /solids/0/motion/keys/1/time: ";
+  const std::string nan = "scene.json: /solids/1/mesh/file: " + (m_dir / "nan.obj").string() +
+                          ":3: vertex 3 has a non-finite coordinate (y = nan)";
+  EXPECT_THAT(validate.output, HasSubstr(keys));  // every problem, not only the first
+  EXPECT_THAT(validate.output, HasSubstr(nan));
+  const auto run = shellflow_in(m_dir, "run " + file);
+  EXPECT_EQ(run.exit_code, 1) << run.output;
+  EXPECT_THAT(run.output, HasSubstr(keys));
+  EXPECT_THAT(run.output, HasSubstr(nan));
+  EXPECT_FALSE(fs::exists(m_dir / "out"));
+
+  // A good scene validates without creating its output folder.
+  const auto good = scene(R"({"name": ")" + name + R"(", "solids": [{"plugin": "template_solid"}],
+      "outputs": [{"plugin": "obj_writer"}]})");
+  const auto ok = shellflow_in(m_dir, "validate " + good);
+  EXPECT_EQ(ok.exit_code, 0) << ok.output;
+  EXPECT_FALSE(fs::exists(m_dir / "out"));
 }
 
 TEST_F(Cli, CtrlCEndsTheRunWithAReadableLastFrame) {

@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "scratch_folder.hpp"
+#include "shellflow/runtime/schema_validator.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::runtime {
@@ -144,6 +145,28 @@ TEST_F(RunDriver, PluginRejectionHappensBeforeAnythingIsWritten) {
     FAIL() << "ran";
   } catch (const SceneError& e) {
     EXPECT_EQ(e.json_path(), "/solids/0/reject");
+  }
+  EXPECT_FALSE(fs::exists(m_dir / "out"));
+}
+
+TEST_F(RunDriver, EveryConstructionRefusalIsReportedBeforeAnythingIsWritten) {
+  // construct_plugins() is what `shellflow validate` runs: it tries every plugin.
+  const auto s = scene(R"({"plugin": "nan_solid", "reject": true},
+                          {"plugin": "template_solid", "name": "plate"},
+                          {"plugin": "nan_solid", "name": "second", "reject": true})");
+  for (int pass = 0; pass < 2; ++pass) {
+    try {
+      if (pass == 0)
+        construct_plugins(s);
+      else
+        run_scene(s, options());
+      FAIL() << "constructed";
+    } catch (const SceneValidationError& e) {
+      ASSERT_EQ(e.issues().size(), 2u) << e.what();
+      EXPECT_EQ(e.issues()[0].json_path, "/solids/0/reject");
+      EXPECT_EQ(e.issues()[1].json_path, "/solids/2/reject");
+      EXPECT_THAT(e.what(), HasSubstr("scene.json: /solids/2/reject: rejected on purpose"));
+    }
   }
   EXPECT_FALSE(fs::exists(m_dir / "out"));
 }

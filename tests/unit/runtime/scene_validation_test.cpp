@@ -83,6 +83,64 @@ TEST_F(SceneFiles, JsonSyntaxErrorGivesLineAndColumn) {
   }
 }
 
+TEST_F(SceneFiles, NumberBeyondADoubleIsASyntaxErrorWithLineAndColumn) {
+  // nlohmann::json reports 1e400 as out_of_range without a position; it was an internal
+  // error (exit code 2) before.
+  for (const char* number : {"1e400", "-1e400"}) {
+    try {
+      load("{\n  \"solids\": [{\"plugin\": \"template_solid\"}],\n  \"time\": {\"fps\": " +
+           std::string(number) + "}\n}");
+      FAIL() << "loaded " << number;
+    } catch (const SceneValidationError& e) {
+      FAIL() << "a validation error, not a syntax error: " << e.what();
+    } catch (const SceneError& e) {
+      EXPECT_EQ(e.file(), (m_dir / "scene.json").string());
+      EXPECT_THAT(e.what(), HasSubstr("scene.json: JSON syntax error at line 3, column 19"));
+      EXPECT_THAT(e.what(), HasSubstr("the number " + std::string(number) + " is beyond"));
+    }
+  }
+}
+
+TEST_F(SceneFiles, SceneNameThatLeavesOutIsRefusedAtName) {
+  for (const char* name : {"../../x", "a/b", "..", ".hidden", "/tmp/x", "with space", ""})
+    expect_issue(with_solid(kPlate, R"(, "name": ")" + std::string(name) + "\""), "/name",
+                 "must be a plain file name: letters, digits, '_', '-' and '.', not starting "
+                 "with '.'");
+}
+
+TEST_F(SceneFiles, PlainSceneNamesAreKept) {
+  EXPECT_EQ(load(with_solid(kPlate, R"(, "name": "Cup_2-b.v3")")).name, "Cup_2-b.v3");
+}
+
+TEST_F(SceneFiles, FileStemStartingWithADotNeedsAName) {
+  const auto file = write(with_solid(kPlate), "..json");  // stem "."
+  try {
+    load_scene(file, {kPlugins});
+    FAIL() << "loaded";
+  } catch (const SceneValidationError& e) {
+    ASSERT_EQ(e.issues().size(), 1u);
+    EXPECT_EQ(e.issues()[0].json_path, "/name");
+    EXPECT_THAT(e.what(), HasSubstr("..json: /name: the file name '..json' starts with '.'"));
+  }
+  EXPECT_EQ(load_scene(write(with_solid(kPlate, R"(, "name": "ok")"), "..json"), {kPlugins}).name,
+            "ok");
+}
+
+TEST_F(SceneFiles, WriterFolderMustStayInsideTheRunFolder) {
+  const auto issues = issues_of(
+      with_solid(kPlate, R"(, "outputs": [{"plugin": "obj_writer", "folder": "../elsewhere"},
+                              {"plugin": "ply_writer", "folder": "/tmp/abs"},
+                              {"plugin": "ply_writer", "folder": "a/../../b"},
+                              {"plugin": "obj_writer", "folder": "meshes/cloth", "name": "ok"}])"));
+  ASSERT_EQ(issues.size(), 3u);
+  EXPECT_EQ(issues[0].json_path, "/outputs/0/folder");
+  EXPECT_THAT(issues[0].message, HasSubstr("'../elsewhere' holds a '..' component"));
+  EXPECT_EQ(issues[1].json_path, "/outputs/1/folder");
+  EXPECT_THAT(issues[1].message, HasSubstr("'/tmp/abs' is an absolute path"));
+  EXPECT_EQ(issues[2].json_path, "/outputs/2/folder");
+  EXPECT_THAT(issues[2].message, HasSubstr("a relative path without '..'"));
+}
+
 TEST_F(SceneFiles, TopLevelMustBeAnObject) { expect_issue("[1, 2]", "", "found an array of 2"); }
 
 TEST_F(SceneFiles, UnknownTopLevelKeySuggestsTheRightOne) {
