@@ -169,7 +169,8 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
                         "smoke emitters in a water scene: put water emitters in "
                         "/water/sources");
     m_liquid =
-        std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up, context.fps);
+        std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up, context.fps,
+                                 m_boundary);
   }
   for (size_t i = 0; i < sources.size(); ++i) {
     m_sources.emplace_back(sources[i], "/sources/" + std::to_string(i));

@@ -164,14 +164,16 @@ TEST(WaterCup, WaterInTheStillCupNeverRunsOutsideIt) {
 
 // Disabled: fails today. The level set loses the cup's water: 0.01047 m^3 at the start,
 // 0.00187 at 1.5 s (-82%; 0.00326, -69%, with 16 particles per cell). The inscribed box
-// leaves a ring of air against the wall that the water rushes into (a small dam break, 1-2
-// m/s at the bottom). Not the shell's doing alone: the same box collapsing in a tank of
-// domain walls 11 cells across loses 79% in 0.39 s (37% at 64^3). Nodes on a wall move only
-// along it and the floor corner never moves, so the wall nodes stay just dry while the faces
-// carry water into the wall's cells (README, known limits, has what was tried). (Cells whose
-// centre lies above the bottom now see only their own side's corners, Liquid::surface();
-// averaging all eight lost 90%.) The bound is the thin-wall dam bound, level within
-// Δx/4, over the cup's cross-section: |ΔV| <= π R² Δx/4 (6.8% of V0).
+// leaves a ring of air against the wall that the water rushes into (a small dam break, up
+// to 1.4 m/s at the bottom). The cells of that ring are cut by the wall and the bottom and
+// see only the two corners nearest the axis, 0.9Δx in from the wall; those stay dry for
+// five steps (the water reaches them through φ's corner, more slowly than its speed) while
+// the faces carry water into the cells, p = 0. Measured step by step, the volume lost is
+// what flows into such air cells: the water between the wall and the first nodes it can
+// see has no node of its own. (Cells whose centre lies above the bottom see only their
+// own side's corners, Liquid::surface(); averaging all eight lost 90%.) The bound is the
+// issue's thin-wall dam bound, level within Δx/4, over the cup's cross-section: |ΔV| <=
+// π R² Δx/4 (6.8% of V0).
 TEST(WaterCup, DISABLED_StillCupKeepsItsWater) {
   auto fluid = test::make_fluid(cup_params(water_in_the_cup()));
   const double dx = fluid->grid().dx();

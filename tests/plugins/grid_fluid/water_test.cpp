@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "grid_fluid_test_support.hpp"
@@ -98,6 +99,47 @@ TEST(Water, AFallingDropFallsFreelyAndOnlyItsBoxIsSolved) {
         ++checked;
       }
   EXPECT_GT(checked, 100);
+}
+
+TEST(LevelSet, CellsAgainstAWallSeeTheWaterInsideThemNotAStaleWallNode) {
+  // The cells' φ (LevelSet::cell_values) on 8^3 cells of 1/8 m with walls on every side.
+  // A plane of water arriving at the wall x = 0 (φ = s − x, water beyond x = s = 0.3Δx)
+  // whose wall nodes were left stale at +2Δx: the wall's cells take the plane's own value
+  // at their centres, s − Δx/2, exactly (the linear extrapolation of the nodes inside is
+  // exact for a plane); without walls they average the stale nodes in and stay air.
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 0.125, Eigen::Vector3i(8, 8, 8));
+  const double dx = grid.dx();
+  LevelSet ls(grid, 6.0 * dx);
+  const auto fill = [&](auto&& phi_of) {
+    for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
+      ls.phi()[i] = phi_of(grid.position(Location::Node, i));
+  };
+  const double s = 0.3 * dx;
+  fill([&](const Eigen::Vector3d& x) { return x.x() < 1e-12 ? 2.0 * dx : s - x.x(); });
+  std::array<bool, 6> walls;
+  walls.fill(true);
+  std::vector<double> with_walls, without;
+  ls.cell_values(with_walls, walls);
+  ls.cell_values(without);
+  for (int k = 0; k < 8; ++k)
+    for (int j = 0; j < 8; ++j) {
+      const std::int64_t c = grid.index(Location::Cell, 0, j, k);
+      EXPECT_NEAR(with_walls[c], s - 0.5 * dx, 1e-15);  // round-off
+      EXPECT_GT(without[c], 0.0);
+      // The cells farther in have no wall node: the plain mean, as before.
+      const std::int64_t inner = grid.index(Location::Cell, 1, j, k);
+      EXPECT_EQ(with_walls[inner], without[inner]);
+    }
+  // A wall node wetter than the extrapolation keeps its own value (a film on the wall), and
+  // a layer thinner than a cell on the floor (φ = y − 0.4Δx, linear) keeps its cells.
+  fill([&](const Eigen::Vector3d& x) { return x.y() - 0.4 * dx; });
+  ls.cell_values(with_walls, walls);
+  ls.cell_values(without);
+  for (std::int64_t c = 0; c < grid.size(Location::Cell); ++c)
+    EXPECT_NEAR(with_walls[c], without[c], 1e-15);
+  fill([&](const Eigen::Vector3d& x) { return x.x() < 1e-12 ? -0.5 * dx : 3.0 * dx; });
+  ls.cell_values(with_walls, walls);
+  EXPECT_NEAR(with_walls[grid.index(Location::Cell, 0, 4, 4)], 0.5 * (-0.5 + 3.0) * dx, 1e-15);
 }
 
 TEST(Water, EveryFaceOfTheNextLiquidCellsHasItsNodesAdvected) {

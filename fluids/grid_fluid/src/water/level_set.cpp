@@ -1,5 +1,6 @@
 #include "shellflow/grid_fluid/water/level_set.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -19,7 +20,7 @@ double LevelSet::sample(const Eigen::Vector3d& p) const {
   return v;
 }
 
-void LevelSet::cell_values(std::vector<double>& out) const {
+void LevelSet::cell_values(std::vector<double>& out, const std::array<bool, 6>& walls) const {
   const Eigen::Vector3i n = m_grid.cells();
   const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
   const std::int64_t sy = nodes.x(), sz = std::int64_t(nodes.x()) * nodes.y();
@@ -34,6 +35,45 @@ void LevelSet::cell_values(std::vector<double>& out) const {
             0.125 *
             (p[0] + p[1] + p[sy] + p[sy + 1] + p[sz] + p[sz + 1] + p[sz + sy] + p[sz + sy + 1]);
       }
+  if (std::none_of(walls.begin(), walls.end(), [](bool w) { return w; })) return;
+  // Cells against a wall: their wall corners no drier than the nodes inside them.
+  const auto on_wall = [&](const Eigen::Vector3i& node, int a) {
+    return (walls[2 * a] && node[a] == 0) || (walls[2 * a + 1] && node[a] == nodes[a] - 1);
+  };
+  const auto wall_aware = [&](const Eigen::Vector3i& node) {
+    double value = m_phi[m_grid.index(Location::Node, node)];
+    for (int a = 0; a < 3; ++a) {
+      if (!on_wall(node, a) || nodes[a] < 2) continue;
+      const int inward = node[a] == 0 ? 1 : -1;
+      Eigen::Vector3i inner = node;
+      inner[a] += inward;
+      const double first = m_phi[m_grid.index(Location::Node, inner)];
+      double extrapolated = first;  // constant across a one-cell domain
+      if (nodes[a] >= 3) {
+        inner[a] += inward;
+        extrapolated = 2.0 * first - m_phi[m_grid.index(Location::Node, inner)];
+      }
+      value = std::min(value, extrapolated);
+    }
+    return value;
+  };
+  const auto fix = [&](int i, int j, int k) {
+    double sum = 0.0;
+    for (int corner = 0; corner < 8; ++corner)
+      sum += wall_aware(Eigen::Vector3i(i + (corner & 1), j + (corner >> 1 & 1), k + (corner >> 2)));
+    out[m_grid.index(Location::Cell, i, j, k)] = 0.125 * sum;
+  };
+  // Only the cells of the box's outer layer touch a wall.
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j) {
+      const bool rim = k == 0 || k == n.z() - 1 || j == 0 || j == n.y() - 1;
+      if (rim) {
+        for (int i = 0; i < n.x(); ++i) fix(i, j, k);
+      } else {
+        fix(0, j, k);
+        if (n.x() > 1) fix(n.x() - 1, j, k);
+      }
+    }
 }
 
 double LevelSet::volume() const {

@@ -43,7 +43,7 @@ sdk::Schema Liquid::schema() {
 }
 
 Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
-               const Eigen::Vector3d& up, double fps)
+               const Eigen::Vector3d& up, double fps, const DomainBoundary& boundary)
     : m_level_set(grid, params.at("band").get<double>() * grid.dx()),
       m_advector(grid),
       m_fast_marching(grid),
@@ -57,6 +57,7 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
                           "): velocities are extrapolated inside the signed-distance band");
   m_extrapolation_width = width * grid.dx();
   m_surface.ghost_fluid = params.at("surface_pressure").get<std::string>() == "ghost_fluid";
+  for (int s = 0; s < 6; ++s) m_walls[s] = boundary.side(s / 2, s % 2).type == BoundaryType::Wall;
   fill_initial_water(params.at("initial"), up, "/water/initial", m_level_set);
   const auto& sources = params.at("sources");
   for (size_t i = 0; i < sources.size(); ++i)
@@ -152,7 +153,7 @@ void Liquid::reinitialize(const ShellGeometry& shells, const geometry::ShellBand
 }
 
 const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::ShellBand* band) {
-  m_level_set.cell_values(m_cell_phi);
+  m_level_set.cell_values(m_cell_phi, m_walls);
   if (band != nullptr && !shells.empty()) {
     // A shell-cut cell: only the corners its centre sees say whether it is water. Corners
     // across the shell hold the other side's φ (air beneath a cup's bottom), and averaged

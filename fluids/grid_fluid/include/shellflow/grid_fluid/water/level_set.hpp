@@ -5,6 +5,7 @@
 // read: the surface, the pressure's liquid cells and the extrapolated velocities all lie
 // within it). One flat array in UniformGrid::index(Location::Node, ...) order.
 
+#include <array>
 #include <vector>
 
 #include "shellflow/grid/uniform_grid.hpp"
@@ -24,8 +25,17 @@ class LevelSet {
 
   /// Trilinear φ at world point p (clamped into the grid).
   double sample(const Eigen::Vector3d& p) const;
-  /// φ at every cell centre (the mean of its 8 nodes: trilinear at the centre).
-  void cell_values(std::vector<double>& out) const;
+  /// φ at every cell centre (the mean of its 8 nodes: trilinear at the centre). With
+  /// `walls` (the sides of the domain box that are walls, `2 * axis + max_side`), a node
+  /// on a wall counts as no drier than the linear extrapolation of the two nodes inside
+  /// it along the wall's normal (each normal, at an edge or corner). A wall node's
+  /// velocity has no normal component and the wall's edge with the floor has none at
+  /// all, so water arriving at a wall or running up it leaves the wall nodes stale and
+  /// dry; averaged in, they kept the wall's cells air (p = 0) while the faces carried
+  /// water into them: a dam break lost 18% of its water in the 2.5 s after it hit the far
+  /// wall. Exact for a linear φ, so still and tilted surfaces and thin layers on the
+  /// floor keep their cells; φ itself is not changed, so no water is made.
+  void cell_values(std::vector<double>& out, const std::array<bool, 6>& walls = {}) const;
   /// Water volume [m^3]: Σ over nodes of H(−φ) Δx^3 with the smeared Heaviside of width
   /// 1.5Δx (Osher and Fedkiw 2002, eq. 7.1), nodes on the domain's faces weighted by 1/2
   /// per face (trapezoidal rule), so a flat pool of depth h gives h × area to round-off.

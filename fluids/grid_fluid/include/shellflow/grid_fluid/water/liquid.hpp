@@ -12,6 +12,7 @@
 //   extrapolate()  after the projection: face velocities across the surface (§4.4)
 // A smoke scene has no Liquid (no level set is built).
 
+#include <array>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <vector>
@@ -44,9 +45,10 @@ struct LiquidStats {
 class Liquid {
  public:
   /// The "water" block of the scene (schema()); `up` the pools' up direction, `fps` the
-  /// scene's frame rate (the particles' reseeding).
+  /// scene's frame rate (the particles' reseeding), `boundary` the domain's sides (its
+  /// walls for the cells' φ, LevelSet::cell_values).
   Liquid(const nlohmann::json& params, const grid::UniformGrid& grid, const Eigen::Vector3d& up,
-         double fps);
+         double fps, const DomainBoundary& boundary = DomainBoundary());
   static sdk::Schema schema();
 
   const LevelSet& level_set() const { return m_level_set; }
@@ -91,6 +93,7 @@ class Liquid {
   std::vector<std::int64_t> m_invalid;
   std::vector<std::uint8_t> m_valid;
   std::vector<double> m_cell_phi;
+  std::array<bool, 6> m_walls{};  ///< sides of the domain that are walls
   FreeSurface m_surface;
   std::array<std::vector<std::uint8_t>, 3> m_known;
   std::vector<std::uint8_t> m_velocity_nodes;
