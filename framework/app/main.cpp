@@ -1,4 +1,4 @@
-// The `shellflow` command line: run, validate and list plugins.
+// The `shellflow` command line: run, validate, list plugins, and write a new plugin.
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <iostream>
 
+#include "new_solid.hpp"
 #include "shellflow/runtime/plugin_docs.hpp"
 #include "shellflow/runtime/plugin_registry.hpp"
 #include "shellflow/runtime/progress.hpp"
@@ -100,6 +101,21 @@ int plugins_command(bool verbose) {
   return kExitOk;
 }
 
+int new_solid_command(const std::string& name, const std::string& dir_arg) {
+  const std::string dir = dir_arg.empty() ? name : dir_arg;
+  const auto files = shellflow::app::write_new_solid(name, dir);
+  std::printf("wrote the solid plugin '%s' into %s/:\n", name.c_str(), dir.c_str());
+  for (const auto& f : files) std::printf("  %s\n", f.c_str());
+  std::printf(
+      "build it against this shellflow and run its scene:\n"
+      "  cd %s && cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release"
+      " -DCMAKE_PREFIX_PATH=<shellflow install prefix>\n"
+      "  cmake --build build && ctest --test-dir build\n"
+      "  shellflow run scenes/%s_drop.json\n",
+      dir.c_str(), name.c_str());
+  return kExitOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,11 +146,21 @@ int main(int argc, char** argv) {
   auto* plugins = app.add_subcommand("plugins", "list the plugins found and their parameters");
   plugins->add_flag("--brief", brief, "names only, no parameter docs");
 
+  auto* make_new = app.add_subcommand("new", "write a new plugin project from a template");
+  make_new->require_subcommand(1);
+  std::string new_name, new_dir;
+  auto* new_solid = make_new->add_subcommand(
+      "solid", "an out-of-tree solid plugin (class, schema, CMakeLists.txt, test, scene)");
+  new_solid->add_option("name", new_name, "plugin name: lower-case letters, digits, '_'")
+      ->required();
+  new_solid->add_option("dir", new_dir, "folder to create, new or empty (default: NAME)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (run->parsed()) return run_command(scene_file, frames, out, overwrite);
     if (validate->parsed()) return validate_command(scene_file);
     if (plugins->parsed()) return plugins_command(!brief);
+    if (new_solid->parsed()) return new_solid_command(new_name, new_dir);
   } catch (const shellflow::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitInputError;
