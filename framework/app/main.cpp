@@ -10,9 +10,9 @@
 
 #include <atomic>
 #include <cerrno>
-#include <cstring>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 
 #include "new_solid.hpp"
@@ -75,8 +75,7 @@ int movie_command(const std::string& run_dir) {
     throw shellflow::IoError("run folder not found: " + run_dir +
                              " (give the folder a run wrote, as out/<scene name>)");
   const auto movie = app::encode_preview_movie(run_dir);
-  if (movie.status != app::PreviewMovie::Status::Written)
-    throw shellflow::IoError(movie.message);
+  if (movie.status != app::PreviewMovie::Status::Written) throw shellflow::IoError(movie.message);
   std::printf("wrote %s: %d previews from %s, H.264, %g fps\n", movie.file.c_str(), movie.frames,
               movie.previews.c_str(), movie.fps);
   return kExitOk;
@@ -252,8 +251,7 @@ int main(int argc, char** argv) {
   std::string run_dir;
   auto* movie = app.add_subcommand(
       "movie", "encode a run's PNG previews into RUN_DIR/preview.mp4 with ffmpeg (H.264)");
-  movie->add_option("run_dir", run_dir, "the run's output folder, as out/<scene name>")
-      ->required();
+  movie->add_option("run_dir", run_dir, "the run's output folder, as out/<scene name>")->required();
 
   std::vector<std::string> plot_columns;
   auto* plot = app.add_subcommand(

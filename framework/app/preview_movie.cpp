@@ -82,8 +82,10 @@ PreviewMovie encode_preview_movie(const fs::path& run_dir) {
   const fs::path ffmpeg = find_on_path("ffmpeg");
   if (ffmpeg.empty()) {
     movie.status = PreviewMovie::Status::NoFfmpeg;
-    movie.message = "ffmpeg is not on PATH, so no preview.mp4 (install it, e.g. apt-get install "
-                    "ffmpeg, then run `shellflow movie " + run_dir.string() + "`)";
+    movie.message =
+        "ffmpeg is not on PATH, so no preview.mp4 (install it, e.g. apt-get install "
+        "ffmpeg, then run `shellflow movie " +
+        run_dir.string() + "`)";
     return movie;
   }
 
@@ -91,12 +93,12 @@ PreviewMovie encode_preview_movie(const fs::path& run_dir) {
   // padded by a pixel. The names sort in frame order (<scene>_<frame, 4 digits>.png).
   char fps[32];
   std::snprintf(fps, sizeof fps, "%.9g", movie.fps);
-  const std::string cmd = shell_quote(ffmpeg.string()) +
-                          " -nostdin -hide_banner -loglevel error -y -framerate " + fps +
-                          " -pattern_type glob -i " +
-                          shell_quote((movie.previews / "*.png").string()) +
-                          " -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p"
-                          " -r " + fps + " " + shell_quote(movie.file.string()) + " 2>&1";
+  const std::string cmd =
+      shell_quote(ffmpeg.string()) + " -nostdin -hide_banner -loglevel error -y -framerate " + fps +
+      " -pattern_type glob -i " + shell_quote((movie.previews / "*.png").string()) +
+      " -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p"
+      " -r " +
+      fps + " " + shell_quote(movie.file.string()) + " 2>&1";
   FILE* pipe = ::popen(cmd.c_str(), "r");
   if (!pipe) {
     movie.status = PreviewMovie::Status::Failed;

@@ -10,11 +10,11 @@ namespace shellflow::app {
 struct PreviewMovie {
   enum class Status { Written, NoPreviews, NoFfmpeg, Failed };
   Status status = Status::NoPreviews;
-  std::filesystem::path file;     ///< RUN_DIR/preview.mp4
-  std::filesystem::path previews; ///< the preview folder read
-  int frames = 0;                 ///< PNG files encoded
-  double fps = 0.0;               ///< the run's fps divided by the preview writer's "every"
-  std::string message;            ///< what went wrong (NoPreviews, NoFfmpeg, Failed)
+  std::filesystem::path file;      ///< RUN_DIR/preview.mp4
+  std::filesystem::path previews;  ///< the preview folder read
+  int frames = 0;                  ///< PNG files encoded
+  double fps = 0.0;                ///< the run's fps divided by the preview writer's "every"
+  std::string message;             ///< what went wrong (NoPreviews, NoFfmpeg, Failed)
 };
 
 /// The executable `name` on PATH, or empty.

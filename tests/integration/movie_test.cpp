@@ -38,7 +38,9 @@ Result sh(const std::string& cmd) {
   return {WEXITSTATUS(status), out};
 }
 
-bool have(const std::string& tool) { return sh("command -v " + tool).exit_code == 0; }
+bool have(const std::string& tool) {
+  return sh("command -v " + tool).exit_code == 0;
+}
 
 class Movie : public testing::ScratchFolder {
  protected:
@@ -57,8 +59,8 @@ TEST_F(Movie, WithoutFfmpegTheRunEndsWithANoteAndSucceeds) {
   EXPECT_TRUE(fs::exists(out() / "previews" / "drop_0004.png")) << r.output;
   EXPECT_FALSE(fs::exists(out() / "preview.mp4"));
   EXPECT_THAT(r.output, HasSubstr("note: ffmpeg is not on PATH, so no preview.mp4"));
-  const auto m = sh("PATH=/nonexistent " + std::string(SHELLFLOW_CLI) + " movie '" +
-                    out().string() + "'");
+  const auto m =
+      sh("PATH=/nonexistent " + std::string(SHELLFLOW_CLI) + " movie '" + out().string() + "'");
   EXPECT_EQ(m.exit_code, 1) << m.output;
   EXPECT_THAT(m.output, HasSubstr("ffmpeg is not on PATH"));
 }
@@ -82,9 +84,11 @@ TEST_F(Movie, RunEndsWithAnH264MovieOfEveryPreviewAtTheRunsFps) {
   ASSERT_TRUE(fs::exists(out() / "preview.mp4")) << r.output;
 
   const auto probe = [&] {
-    return sh("ffprobe -v error -select_streams v:0 -count_frames -show_entries "
-              "stream=codec_name,pix_fmt,width,height,r_frame_rate,nb_read_frames -of "
-              "default=noprint_wrappers=1 '" + (out() / "preview.mp4").string() + "'");
+    return sh(
+        "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
+        "stream=codec_name,pix_fmt,width,height,r_frame_rate,nb_read_frames -of "
+        "default=noprint_wrappers=1 '" +
+        (out() / "preview.mp4").string() + "'");
   };
   auto p = probe();
   ASSERT_EQ(p.exit_code, 0) << p.output;

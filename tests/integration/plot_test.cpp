@@ -39,9 +39,7 @@ class Plot : public testing::ScratchFolder {
     const auto r = sh("cd '" + m_dir.string() + "' && " + SHELLFLOW_CLI + " run scene.json");
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
-  Result plot(const std::string& args) {
-    return sh(std::string(SHELLFLOW_CLI) + " plot " + args);
-  }
+  Result plot(const std::string& args) { return sh(std::string(SHELLFLOW_CLI) + " plot " + args); }
   fs::path out() const { return m_dir / "out" / "drop"; }
 };
 
