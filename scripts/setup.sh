@@ -16,6 +16,7 @@ PACKAGES=(
   libtinyobjloader-dev libstb-dev libpng-dev libopenvdb-dev libboost-iostreams-dev
   libopenblas0-openmp  # an optimised BLAS for CHOLMOD (the reference BLAS is ~100x slower)
   python3-matplotlib   # scripts/plot_dam_break.py draws the README's dam-break figure
+  ffmpeg               # a run with PNG previews ends with preview.mp4 (optional: a note if absent)
 )
 
 missing=()

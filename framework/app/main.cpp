@@ -1,14 +1,22 @@
-// The `shellflow` command line: run, validate and list plugins.
+// The `shellflow` command line: run, validate, list plugins, write a new plugin, make a movie
+// or plots of a run.
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <atomic>
+#include <cerrno>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <iostream>
 
+#include "new_solid.hpp"
+#include "preview_movie.hpp"
 #include "shellflow/runtime/plugin_docs.hpp"
 #include "shellflow/runtime/plugin_registry.hpp"
 #include "shellflow/runtime/progress.hpp"
@@ -34,6 +42,91 @@ extern "C" void on_interrupt(int) {
   std::signal(SIGINT, SIG_DFL);
 }
 
+namespace app = shellflow::app;
+
+/// The end of a run that wrote previews: preview.mp4, or a one-line note why not. Never
+/// changes the run's exit code.
+void movie_after_run(const std::filesystem::path& out_dir) {
+  try {
+    std::error_code ec;
+    if (!std::filesystem::exists(out_dir / "run.json", ec)) return;
+    const auto movie = app::encode_preview_movie(out_dir);
+    switch (movie.status) {
+      case app::PreviewMovie::Status::Written:
+        spdlog::info("encoded {} previews into {} (H.264, {:g} fps)", movie.frames,
+                     movie.file.string(), movie.fps);
+        break;
+      case app::PreviewMovie::Status::NoFfmpeg:
+        spdlog::info("note: {}", movie.message);
+        break;
+      case app::PreviewMovie::Status::Failed:
+        spdlog::warn("{}", movie.message);
+        break;
+      case app::PreviewMovie::Status::NoPreviews:
+        break;
+    }
+  } catch (const std::exception& e) {
+    spdlog::warn("no preview.mp4: {}", e.what());
+  }
+}
+
+int movie_command(const std::string& run_dir) {
+  if (!std::filesystem::is_directory(run_dir))
+    throw shellflow::IoError("run folder not found: " + run_dir +
+                             " (give the folder a run wrote, as out/<scene name>)");
+  const auto movie = app::encode_preview_movie(run_dir);
+  if (movie.status != app::PreviewMovie::Status::Written) throw shellflow::IoError(movie.message);
+  std::printf("wrote %s: %d previews from %s, H.264, %g fps\n", movie.file.c_str(), movie.frames,
+              movie.previews.c_str(), movie.fps);
+  return kExitOk;
+}
+
+/// `shellflow plot`: scripts/plot_run.py (installed as <prefix>/share/shellflow/plot_run.py)
+/// with the python3 that has Debian's python3-matplotlib, arguments passed as given.
+int plot_command(const std::string& run_dir, const std::vector<std::string>& columns) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  std::vector<fs::path> candidates;
+  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "share/shellflow/plot_run.py");
+  candidates.emplace_back(SHELLFLOW_SOURCE_SCRIPTS_DIR "/plot_run.py");
+  fs::path script;
+  for (const auto& c : candidates)
+    if (fs::is_regular_file(c, ec)) {
+      script = c;
+      break;
+    }
+  if (script.empty())
+    throw shellflow::IoError("cannot find plot_run.py (looked in " + candidates.front().string() +
+                             " and " + candidates.back().string() + ")");
+  std::string python;
+  if (const char* env = std::getenv("SHELLFLOW_PYTHON"); env && *env)
+    python = env;
+  else if (::access("/usr/bin/python3", X_OK) == 0)
+    python = "/usr/bin/python3";  // where Debian's python3-matplotlib is
+  else
+    python = app::find_on_path("python3").string();
+  if (python.empty())
+    throw shellflow::IoError("python3 is not on PATH: install python3 and python3-matplotlib");
+  std::vector<std::string> args = {python, script.string(), run_dir};
+  args.insert(args.end(), columns.begin(), columns.end());
+  std::vector<char*> argv;
+  for (auto& a : args) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  std::fflush(stdout);
+  std::fflush(stderr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::execv(argv[0], argv.data());
+    std::fprintf(stderr, "error: cannot run %s: %s\n", argv[0], std::strerror(errno));
+    ::_exit(127);
+  }
+  int status = 0;
+  if (pid < 0 || ::waitpid(pid, &status, 0) < 0)
+    throw shellflow::IoError(std::string("cannot start python3: ") + std::strerror(errno));
+  return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? kExitOk : kExitInputError;
+}
+
 int run_command(const std::string& scene_file, std::optional<int> frames,
                 std::optional<std::string> out, bool overwrite) {
   const auto scene = rt::load_scene(scene_file);
@@ -48,6 +141,7 @@ int run_command(const std::string& scene_file, std::optional<int> frames,
   std::signal(SIGTERM, on_interrupt);
   const auto summary = rt::run_scene(scene, options);
   printer.finish();
+  movie_after_run(summary.out_dir);  // also after a failure: the frames before it are useful
   switch (summary.status) {
     case rt::RunStatus::Completed:
       spdlog::info("wrote {} frames to {} ({} steps, {:.2f} s, {:.3f} s/frame)",
@@ -100,6 +194,21 @@ int plugins_command(bool verbose) {
   return kExitOk;
 }
 
+int new_solid_command(const std::string& name, const std::string& dir_arg) {
+  const std::string dir = dir_arg.empty() ? name : dir_arg;
+  const auto files = shellflow::app::write_new_solid(name, dir);
+  std::printf("wrote the solid plugin '%s' into %s/:\n", name.c_str(), dir.c_str());
+  for (const auto& f : files) std::printf("  %s\n", f.c_str());
+  std::printf(
+      "build it against this shellflow and run its scene:\n"
+      "  cd %s && cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release"
+      " -DCMAKE_PREFIX_PATH=<shellflow install prefix>\n"
+      "  cmake --build build && ctest --test-dir build\n"
+      "  shellflow run scenes/%s_drop.json\n",
+      dir.c_str(), name.c_str());
+  return kExitOk;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -130,11 +239,36 @@ int main(int argc, char** argv) {
   auto* plugins = app.add_subcommand("plugins", "list the plugins found and their parameters");
   plugins->add_flag("--brief", brief, "names only, no parameter docs");
 
+  auto* make_new = app.add_subcommand("new", "write a new plugin project from a template");
+  make_new->require_subcommand(1);
+  std::string new_name, new_dir;
+  auto* new_solid = make_new->add_subcommand(
+      "solid", "an out-of-tree solid plugin (class, schema, CMakeLists.txt, test, scene)");
+  new_solid->add_option("name", new_name, "plugin name: lower-case letters, digits, '_'")
+      ->required();
+  new_solid->add_option("dir", new_dir, "folder to create, new or empty (default: NAME)");
+
+  std::string run_dir;
+  auto* movie = app.add_subcommand(
+      "movie", "encode a run's PNG previews into RUN_DIR/preview.mp4 with ffmpeg (H.264)");
+  movie->add_option("run_dir", run_dir, "the run's output folder, as out/<scene name>")->required();
+
+  std::vector<std::string> plot_columns;
+  auto* plot = app.add_subcommand(
+      "plot", "draw metrics.csv columns against time into RUN_DIR/plots/<column>.png");
+  plot->add_option("run_dir", run_dir, "the run's output folder, as out/<scene name>")->required();
+  plot->add_option("columns", plot_columns,
+                   "metrics.csv columns (default: energies, volumes, masses, iterations, "
+                   "maximum speeds)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (run->parsed()) return run_command(scene_file, frames, out, overwrite);
     if (validate->parsed()) return validate_command(scene_file);
     if (plugins->parsed()) return plugins_command(!brief);
+    if (new_solid->parsed()) return new_solid_command(new_name, new_dir);
+    if (movie->parsed()) return movie_command(run_dir);
+    if (plot->parsed()) return plot_command(run_dir, plot_columns);
   } catch (const shellflow::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitInputError;

@@ -17,6 +17,7 @@ namespace {
 
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
+using ::testing::Not;
 
 struct Result {
   int exit_code;
@@ -45,7 +46,8 @@ TEST_F(Cli, ValidateAcceptsAGoodSceneAndNamesTheProblemInABadOne) {
   const auto good = shellflow("validate " + scene(R"({"solids": [{"plugin": "template_solid"}]})"));
   EXPECT_EQ(good.exit_code, 0) << good.output;
   EXPECT_THAT(good.output, HasSubstr("valid scene"));
-  const auto bad = shellflow("validate " + scene(R"({"solids": [{"plugin": "template_solid", "nodes": 1}]})"));
+  const auto bad =
+      shellflow("validate " + scene(R"({"solids": [{"plugin": "template_solid", "nodes": 1}]})"));
   EXPECT_EQ(bad.exit_code, 1);
   EXPECT_THAT(bad.output, HasSubstr("scene.json: /solids/0/nodes: expected an integer >= 2"));
 }
@@ -134,7 +136,8 @@ TEST_F(Cli, CtrlCEndsTheRunWithAReadableLastFrame) {
   }
   // Wait until frame 1 exists, then interrupt.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
-  while (!fs::exists(out / "meshes" / "plate_0001.obj") && std::chrono::steady_clock::now() < deadline)
+  while (!fs::exists(out / "meshes" / "plate_0001.obj") &&
+         std::chrono::steady_clock::now() < deadline)
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   kill(pid, SIGINT);
   int status = 0;
@@ -150,6 +153,34 @@ TEST_F(Cli, CtrlCEndsTheRunWithAReadableLastFrame) {
   std::snprintf(name, sizeof name, "plate_%04d.obj", last);
   const auto last_obj = read(out / "meshes" / name);
   EXPECT_THAT(last_obj, HasSubstr("\nf "));  // a complete mesh, not a torn file
+}
+
+TEST_F(Cli, NewSolidWritesAPluginProjectAndRefusesBadNamesAndNonEmptyFolders) {
+  const auto dir = m_dir / "plugin";
+  auto r = shellflow("new solid my_plate " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* f : {"my_plate.hpp", "my_plate.cpp", "CMakeLists.txt", "my_plate_test.cpp",
+                        "scenes/my_plate_drop.json"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
+  const auto source = read(dir / "my_plate.cpp");
+  EXPECT_THAT(source,
+              HasSubstr(R"(SHELLFLOW_SOLID_PLUGIN(shellflow::my_plate::MyPlate, "my_plate"))"));
+  EXPECT_THAT(source, Not(HasSubstr("template_solid")));
+  EXPECT_THAT(source, Not(HasSubstr("FallingPlate")));
+  EXPECT_THAT(read(dir / "CMakeLists.txt"), HasSubstr("find_package(shellflow 0.1 REQUIRED)"));
+  EXPECT_THAT(read(dir / "CMakeLists.txt"),
+              HasSubstr("shellflow_add_plugin(my_plate SOURCES my_plate.cpp)"));
+  EXPECT_NO_THROW(nlohmann::json::parse(read(dir / "scenes/my_plate_drop.json")));
+
+  r = shellflow("new solid my_plate " + dir.string());  // now non-empty
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_THAT(r.output, HasSubstr("is not empty"));
+  for (const char* bad : {"MyPlate", "9lives", "my-plate", "new", "sdk", "a__b"}) {
+    r = shellflow(std::string("new solid ") + bad + " " + (m_dir / "other").string());
+    EXPECT_EQ(r.exit_code, 1) << bad;
+    EXPECT_THAT(r.output, HasSubstr("cannot name a plugin")) << bad;
+    EXPECT_FALSE(fs::exists(m_dir / "other")) << bad;
+  }
 }
 
 }  // namespace

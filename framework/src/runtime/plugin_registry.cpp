@@ -1,5 +1,6 @@
 #include "shellflow/runtime/plugin_registry.hpp"
 
+#include <dlfcn.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -23,6 +24,23 @@ std::string canonical_or_same(const fs::path& p) {
   const auto c = fs::weakly_canonical(p, ec);
   return ec ? p.string() : c.string();
 }
+
+/// The folder of the libshellflow.so this code runs in, asked of the dynamic loader; empty
+/// when it cannot say. `cmake --install --prefix P` and a moved install tree put the
+/// library in P/lib, whatever prefix was configured, so the plugins are found from here.
+fs::path libshellflow_dir() {
+  Dl_info info{};
+  if (dladdr(reinterpret_cast<const void*>(&libshellflow_dir), &info) == 0 || !info.dli_fname)
+    return {};
+  std::error_code ec;
+  const auto file = fs::canonical(info.dli_fname, ec);
+  return ec ? fs::path{} : file.parent_path();
+}
+
+bool is_inside(const fs::path& dir, const fs::path& root) {
+  const auto d = canonical_or_same(dir), r = canonical_or_same(root);
+  return d == r || d.starts_with(r + "/");
+}
 }  // namespace
 
 PluginRegistry::PluginRegistry(std::vector<fs::path> search_dirs)
@@ -36,8 +54,20 @@ std::vector<fs::path> PluginRegistry::default_search_dirs() {
     while (std::getline(ss, item, ':'))
       if (!item.empty()) dirs.emplace_back(item);
   }
-  dirs.emplace_back(SHELLFLOW_BUILD_PLUGIN_DIR);
-  dirs.emplace_back(SHELLFLOW_INSTALL_PLUGIN_DIR);
+  // A libshellflow in the build tree uses the build tree's plugins; an installed one those
+  // installed beside it (<prefix>/lib/shellflow/plugins), then the configured prefix's.
+  const fs::path lib_dir = libshellflow_dir();
+  if (lib_dir.empty() || is_inside(lib_dir, SHELLFLOW_BUILD_TREE)) {
+    dirs.emplace_back(SHELLFLOW_BUILD_PLUGIN_DIR);
+  } else {
+    const fs::path installed = lib_dir / "shellflow" / "plugins";
+    dirs.push_back(installed);
+  }
+  const fs::path configured = SHELLFLOW_INSTALL_PLUGIN_DIR;
+  if (std::none_of(dirs.begin(), dirs.end(), [&](const fs::path& d) {
+        return canonical_or_same(d) == canonical_or_same(configured);
+      }))
+    dirs.push_back(configured);
   return dirs;
 }
 
