@@ -151,7 +151,14 @@ Scene load_scene(const fs::path& file_in, const std::vector<fs::path>& extra_sea
                   (fs::exists(file) ? "not a readable file" : "no such file"));
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  return parse_scene(buffer.str(), file, extra_search_dirs);
+}
+
+Scene parse_scene(const std::string& text, const fs::path& file_in,
+                  const std::vector<fs::path>& extra_search_dirs) {
+  std::error_code ec;
+  const fs::path file = fs::absolute(file_in, ec).lexically_normal();
+  const std::string f = file.string();
   // Syntax first (a scene is small: parsing it twice costs nothing), so that every
   // problem of the text, numbers out of range included, reads the same way.
   SyntaxCheck syntax;
