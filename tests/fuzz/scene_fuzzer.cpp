@@ -7,7 +7,8 @@
 //
 // A finding is: a sanitizer report, an exception that is not a shellflow::Error (the CLI
 // would call it an internal error, exit 2), or a scene that loads but breaks an invariant
-// the run relies on (checked below). Built and run by scripts/fuzz.sh.
+// the run relies on, or whose resolved form (run.json's echo) does not load back to
+// itself (checked below). Built and run by scripts/fuzz.sh.
 
 #include <cmath>
 #include <cstdint>
@@ -44,8 +45,18 @@ void check_invariants(const rt::Scene& scene) {
   if (!(std::isfinite(scene.max_speed) && scene.max_speed > 0)) fail("max_speed");
   if (!scene.gravity.allFinite()) fail("gravity not finite");
   if (!scene.fluid && scene.solids.empty()) fail("loaded a scene with nothing to simulate");
-  // The resolved scene is echoed into run.json.
-  (void)scene.resolved.dump();
+}
+
+/// The resolved scene (defaults filled, files absolute) is echoed into run.json; loaded
+/// again it must be valid and resolve to itself.
+void check_round_trip(const rt::Scene& scene) {
+  const std::string echo = scene.resolved.dump();
+  try {
+    const rt::Scene again = rt::parse_scene(echo, kSceneFile);
+    if (again.resolved != scene.resolved) fail("the resolved scene resolves differently:\n" + echo);
+  } catch (const shellflow::Error& e) {
+    fail(std::string("the resolved scene does not load: ") + e.what() + "\n" + echo);
+  }
 }
 
 }  // namespace
@@ -64,7 +75,9 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
-    check_invariants(rt::parse_scene(text, kSceneFile));
+    const rt::Scene scene = rt::parse_scene(text, kSceneFile);
+    check_invariants(scene);
+    check_round_trip(scene);
   } catch (const shellflow::Error&) {
     // The expected outcome for most inputs: an error naming the file and the JSON path.
   } catch (const std::exception& e) {
