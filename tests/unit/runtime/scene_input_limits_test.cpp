@@ -19,8 +19,9 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
 const fs::path kPlugins = SHELLFLOW_TEST_PLUGIN_DIR;
-// parse_scene never reads it; relative paths resolve next to it.
-const fs::path kSceneFile = fs::temp_directory_path() / "shellflow_limits_test" / "scene.json";
+// parse_scene never reads it; relative paths resolve next to it, in a folder that exists
+// (under a missing folder the system says "no such file" before "name too long").
+const fs::path kSceneFile = fs::temp_directory_path() / "shellflow_limits_test.json";
 // Longer than any file name component may be (NAME_MAX is 255 on Linux), so the
 // system refuses the path with ENAMETOOLONG rather than "no such file".
 const std::string kLongName(300, 'a');
