@@ -3,6 +3,8 @@
 # Sourced by demo.sh and test.sh; run alone it only sets up and builds.
 #   BUILD_DIR   build folder (default: build)
 #   BUILD_TYPE  CMake build type (default: Release; "Sanitize" for ASan+UBSan)
+#   EXTRA_PACKAGES    more Debian packages, space-separated (fuzz.sh: clang and its runtime)
+#   EXTRA_CMAKE_ARGS  more configure arguments, space-separated (fuzz.sh: the compiler)
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -18,6 +20,9 @@ PACKAGES=(
   python3-matplotlib   # scripts/plot_dam_break.py draws the README's dam-break figure
   ffmpeg               # a run with PNG previews ends with preview.mp4 (optional: a note if absent)
 )
+
+read -r -a extra_packages <<< "${EXTRA_PACKAGES:-}"
+PACKAGES+=("${extra_packages[@]}")
 
 missing=()
 for p in "${PACKAGES[@]}"; do
@@ -38,7 +43,9 @@ fi
 JOBS="${JOBS:-$(nproc)}"
 echo "== configuring ($BUILD_TYPE) in $BUILD_DIR"
 mkdir -p "$BUILD_DIR"
-cmake -S "$ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE="$BUILD_TYPE" -DSHELLFLOW_PLUGINS= > "$BUILD_DIR/configure.log" 2>&1 \
+read -r -a extra_cmake_args <<< "${EXTRA_CMAKE_ARGS:-}"
+cmake -S "$ROOT" -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE="$BUILD_TYPE" -DSHELLFLOW_PLUGINS= \
+  "${extra_cmake_args[@]}" > "$BUILD_DIR/configure.log" 2>&1 \
   || { cat "$BUILD_DIR/configure.log"; exit 1; }
 echo "== building with $JOBS jobs"
 cmake --build "$BUILD_DIR" -j "$JOBS"

@@ -77,7 +77,10 @@ void compute_inverse_diagonal(Level& level) {
   const float* x = level.inverse_diagonal.data();  // not read: the sum is ignored
   float* out = level.inverse_diagonal.data();
   const float* dirichlet = level.dirichlet.empty() ? nullptr : level.dirichlet.data();
-  with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
+  // out and dirichlet are captured by value: clang 14 refuses a by-reference capture of
+  // the function's locals from a lambda inside an OpenMP loop inside a generic lambda
+  // ("reference to local variable declared in enclosing function"); g++ accepts both.
+  with_weights(level, [&, out, dirichlet](const auto* wx, const auto* wy, const auto* wz) {
 #pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
     for (int k = 0; k < s.nz; ++k)
       for (int j = 0; j < s.ny; ++j)

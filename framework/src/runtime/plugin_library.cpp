@@ -35,8 +35,13 @@ const char* runtime_build_signature() {
 
 std::shared_ptr<PluginLibrary> PluginLibrary::open(const std::filesystem::path& file) {
   const std::string f = file.string();
-  if (!std::filesystem::exists(file))
+  // The error_code form: a name the system refuses (too long) is "not found", not a
+  // filesystem_error escaping as an internal error.
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec))
     throw PluginError("plugin file not found: " + f +
+                      (ec && ec != std::errc::no_such_file_or_directory ? " (" + ec.message() + ")"
+                                                                        : std::string()) +
                       " (check the name and the scene's \"plugin_path\" / SHELLFLOW_PLUGIN_PATH)");
   std::shared_ptr<PluginLibrary> lib(new PluginLibrary());
   lib->m_file = file;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <set>
 #include <sstream>
 
 #include "shellflow/runtime/did_you_mean.hpp"
@@ -76,9 +77,13 @@ void PluginRegistry::scan() {
   m_scanned = true;
   std::map<std::string, std::string> first_dir_of;  // plugin name -> folder where it was seen
   std::map<std::string, std::string> first_file_of;
+  std::set<std::string> scanned;  // canonical folders
   for (const auto& dir : m_search_dirs) {
     std::error_code ec;
     if (!fs::is_directory(dir, ec)) continue;
+    // A folder met twice (SHELLFLOW_PLUGIN_PATH set to the build tree's plugin folder,
+    // which is searched anyway) is scanned once: its plugins are not twins of themselves.
+    if (!scanned.insert(canonical_or_same(dir)).second) continue;
     std::vector<fs::path> files;
     for (const auto& entry : fs::directory_iterator(dir, ec)) {
       const auto name = entry.path().filename().string();

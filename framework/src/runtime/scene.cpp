@@ -146,12 +146,23 @@ Scene load_scene(const fs::path& file_in, const std::vector<fs::path>& extra_sea
   const fs::path file = fs::absolute(file_in, ec).lexically_normal();
   const std::string f = file.string();
   std::ifstream in(file);
-  if (!fs::is_regular_file(file) || !in)
+  // error_code forms throughout: a path the system refuses (a name too long) is an
+  // input error like any missing file, not a filesystem_error (an internal error).
+  if (!fs::is_regular_file(file, ec) || !in)
     throw IoError("cannot read scene file " + f + ": " +
-                  (fs::exists(file) ? "not a readable file" : "no such file"));
+                  (fs::exists(file, ec)                               ? "not a readable file"
+                   : ec && ec != std::errc::no_such_file_or_directory ? ec.message()
+                                                                      : "no such file"));
   std::stringstream buffer;
   buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  return parse_scene(buffer.str(), file, extra_search_dirs);
+}
+
+Scene parse_scene(const std::string& text, const fs::path& file_in,
+                  const std::vector<fs::path>& extra_search_dirs) {
+  std::error_code ec;
+  const fs::path file = fs::absolute(file_in, ec).lexically_normal();
+  const std::string f = file.string();
   // Syntax first (a scene is small: parsing it twice costs nothing), so that every
   // problem of the text, numbers out of range included, reads the same way.
   SyntaxCheck syntax;
@@ -171,9 +182,12 @@ Scene load_scene(const fs::path& file_in, const std::vector<fs::path>& extra_sea
       if (!entry.is_string()) continue;  // the schema reports it
       fs::path dir = entry.get<std::string>();
       if (dir.is_relative()) dir = file.parent_path() / dir;
-      if (!fs::is_directory(dir))
+      if (std::error_code dir_ec; !fs::is_directory(dir, dir_ec))
         early.push_back({pointer_append("/plugin_path", i),
-                         "folder not found: " + dir.lexically_normal().string()});
+                         "folder not found: " + dir.lexically_normal().string() +
+                             (dir_ec && dir_ec != std::errc::no_such_file_or_directory
+                                  ? " (" + dir_ec.message() + ")"
+                                  : "")});
       search.push_back(dir.lexically_normal());
     }
   }

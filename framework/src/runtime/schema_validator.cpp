@@ -1,6 +1,7 @@
 #include "shellflow/runtime/schema_validator.hpp"
 
 #include <cmath>
+#include <limits>
 #include <sstream>
 
 #include "shellflow/runtime/did_you_mean.hpp"
@@ -40,6 +41,18 @@ std::string range_text(const SchemaJson& s) {
   }
   return out;
 }
+
+/// Every integer parameter is read as an int (frames, resolutions, node indices), so an
+/// integer beyond int's range would wrap (4294967297 frames ran as 1): refuse it here.
+bool fits_int(const Json& v) {
+  if (v.is_number_unsigned())
+    return v.get<Json::number_unsigned_t>() <=
+           static_cast<Json::number_unsigned_t>(std::numeric_limits<int>::max());
+  const auto i = v.get<Json::number_integer_t>();
+  return i >= std::numeric_limits<int>::min() && i <= std::numeric_limits<int>::max();
+}
+
+const std::string kIntRange = " (integers here are at most 2147483647 in magnitude)";
 
 std::vector<std::string> keys_of(const SchemaJson& object) {
   std::vector<std::string> keys;
@@ -177,10 +190,15 @@ void SchemaValidator::validate(Json& v, const SchemaJson& s, const std::string& 
     std::filesystem::path p = v.get<std::string>();
     if (p.is_relative()) p = m_base_dir / p;
     p = p.lexically_normal();
-    if (!std::filesystem::is_regular_file(p))
-      return add_issue(path, "file not found: " + p.string() + " (from " + v.dump() +
-                                 "; relative paths start at the scene file's folder " +
-                                 m_base_dir.string() + ")");
+    // The error_code form: a path the system refuses (a name too long) is "not found"
+    // with the reason, not a filesystem_error escaping as an internal error.
+    if (std::error_code ec; !std::filesystem::is_regular_file(p, ec))
+      return add_issue(
+          path,
+          "file not found: " + p.string() +
+              (ec && ec != std::errc::no_such_file_or_directory ? " (" + ec.message() + ")" : "") +
+              " (from " + v.dump() + "; relative paths start at the scene file's folder " +
+              m_base_dir.string() + ")");
     v = p.string();
   } else if (kind == "number_list" || kind == "integer_list") {
     validate_list(v, s, path, kind == "integer_list");
@@ -208,6 +226,9 @@ void SchemaValidator::validate_number(const Json& v, const SchemaJson& s, const 
   };
   if (!v.is_number()) return fail();
   if (integer && !v.is_number_integer()) return fail();
+  if (integer && !fits_int(v))
+    return add_issue(path,
+                     "expected " + describe_schema(s) + ", found " + describe_value(v) + kIntRange);
   const double x = v.get<double>();
   if (!std::isfinite(x)) return fail();
   if (s.contains("min")) {
@@ -233,6 +254,9 @@ void SchemaValidator::validate_list(const Json& v, const SchemaJson& s, const st
       add_issue(pointer_append(path, i), std::string("expected ") +
                                              (integer ? "an integer" : "a number") + ", found " +
                                              describe_value(v[i]));
+    else if (integer && !fits_int(v[i]))
+      add_issue(pointer_append(path, i),
+                "expected an integer, found " + describe_value(v[i]) + kIntRange);
   }
 }
 

@@ -97,6 +97,20 @@ TEST(PluginRegistry, EarlierFolderShadowsLaterOne) {
   EXPECT_TRUE(saw_shadowed);
 }
 
+// SHELLFLOW_PLUGIN_PATH set to the build tree's plugin folder put it on the search path
+// twice, and every plugin was "two plugins named 'x' in <dir>: <dir>/x.so and <dir>/x.so".
+TEST(PluginRegistry, AFolderListedTwiceIsScannedOnce) {
+  PluginRegistry registry({kPlugins, kPlugins / "." / "", kPlugins});
+  const auto lib = registry.get("template_solid", PluginKind::Solid);
+  EXPECT_EQ(lib->name(), "template_solid");
+  size_t copies = 0;
+  for (const auto& c : registry.candidates()) {
+    EXPECT_EQ(c.error, "") << c.file;
+    if (c.library && c.library->name() == "template_solid") ++copies;
+  }
+  EXPECT_EQ(copies, 1u);
+}
+
 TEST(PluginRegistry, UnknownNameSuggestsTheClosestAndListsFolders) {
   PluginRegistry registry({kPlugins});
   EXPECT_THAT(load_error(registry, "template_sold", PluginKind::Solid),

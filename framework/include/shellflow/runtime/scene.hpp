@@ -60,4 +60,13 @@ Scene load_scene(const std::filesystem::path& file,
                  const std::vector<std::filesystem::path>& extra_search_dirs =
                      PluginRegistry::default_search_dirs());
 
+/// load_scene's work on text already read: `file` (made absolute) names the scene in
+/// messages, resolves relative paths and gives the default name; it need not exist.
+/// Reads nothing but the plugins and the files the scene names; writes nothing (the
+/// fuzz target in tests/fuzz feeds it arbitrary text).
+/// @throw SceneValidationError, SceneError as load_scene.
+Scene parse_scene(const std::string& text, const std::filesystem::path& file,
+                  const std::vector<std::filesystem::path>& extra_search_dirs =
+                      PluginRegistry::default_search_dirs());
+
 }  // namespace shellflow::runtime
