@@ -35,8 +35,7 @@ extern "C" void on_interrupt(int) {
 }
 
 int run_command(const std::string& scene_file, std::optional<int> frames,
-                std::optional<std::string> out, bool overwrite, int checkpoint_every,
-                bool resume) {
+                std::optional<std::string> out, bool overwrite, int checkpoint_every, bool resume) {
   const auto scene = rt::load_scene(scene_file);
   rt::RunOptions options;
   options.frames = frames;
@@ -147,7 +146,8 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   try {
-    if (run->parsed()) return run_command(scene_file, frames, out, overwrite, checkpoint_every, resume);
+    if (run->parsed())
+      return run_command(scene_file, frames, out, overwrite, checkpoint_every, resume);
     if (validate->parsed()) return validate_command(scene_file);
     if (plugins->parsed()) return plugins_command(!brief);
   } catch (const shellflow::Error& e) {

@@ -31,7 +31,7 @@ const fs::path kPlugins = SHELLFLOW_TEST_PLUGIN_DIR;
 /// grid: every kind of state a checkpoint must hold, in about a second per run.
 std::string coupled_scene(double cloth_density = 0.2) {
   return R"({"name": "ckpt", "gravity": [0, -9.81, 0],
-    "time": {"fps": 24, "frames": 6, "max_dt": 0.01},
+    "time": {"fps": 24, "frames": 4, "max_dt": 0.01},
     "fluid": {"plugin": "grid_fluid", "name": "air", "resolution": 12,
               "boundary": {"y_max": {"type": "open"}},
               "sources": [{"shape": "sphere", "center": [0.5, 0.2, 0.5], "radius": 0.12,
@@ -64,7 +64,8 @@ std::map<std::string, std::vector<std::string>> numeric_columns(const fs::path& 
     std::string value;
     for (const auto& name : names) {
       if (!std::getline(row, value, ',')) value.clear();
-      const std::string key = name.substr(name.rfind('.') == std::string::npos ? 0 : name.rfind('.') + 1);
+      const std::string key =
+          name.substr(name.rfind('.') == std::string::npos ? 0 : name.rfind('.') + 1);
       const bool wall_time = key.rfind("t_", 0) == 0 || key.find("seconds") != std::string::npos ||
                              key.find("wall") != std::string::npos;
       if (!wall_time) columns[name].push_back(value);
@@ -118,22 +119,22 @@ TEST_F(Checkpoints, StoppedOrCrashedAndResumedRunIsBitIdenticalToAnUninterrupted
   const auto s = scene(coupled_scene());
   const auto whole = run_scene(s, options("whole"));
   ASSERT_EQ(whole.status, RunStatus::Completed);
-  EXPECT_EQ(list_checkpoints(m_dir / "whole").size(), 2u);  // the last two of frames 2, 4, 6
+  EXPECT_EQ(list_checkpoints(m_dir / "whole").size(), 2u);  // frames 2 and 4 (the last)
 
-  // Ctrl-C after frame 3: the run stops after the first step of frame 4, writes a
-  // checkpoint there (within a frame) and the partial frame 4.
+  // Ctrl-C after frame 2: the run stops after the first step of frame 3, writes a
+  // checkpoint there (within a frame) and the partial frame 3.
   std::atomic<bool> stop{false};
   auto o = options("stopped");
   o.stop_requested = &stop;
   o.on_progress = [&](const Progress& p) {
-    if (p.frame == 3) stop = true;
+    if (p.frame == 2) stop = true;
   };
   const auto stopped = run_scene(s, o);
   ASSERT_EQ(stopped.status, RunStatus::Interrupted);
   const auto stopped_checkpoints = list_checkpoints(m_dir / "stopped");
   ASSERT_EQ(stopped_checkpoints.size(), 2u);  // frame 2's and the Ctrl-C one
 
-  // A crash after frame 3 looks like the stopped run without its Ctrl-C checkpoint: the
+  // A crash within frame 3 looks like the stopped run without its Ctrl-C checkpoint: the
   // resume goes back to frame 2's and cuts metrics.csv back to it.
   fs::copy(m_dir / "stopped", m_dir / "crashed", fs::copy_options::recursive);
   fs::remove(m_dir / "crashed" / "checkpoints" / stopped_checkpoints[0].filename());

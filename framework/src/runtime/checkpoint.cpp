@@ -92,7 +92,8 @@ std::vector<fs::path> list_checkpoints(const fs::path& run_dir) {
     const long long step = step_of(entry.path());
     if (step >= 0 && entry.is_regular_file(ec)) found.emplace_back(step, entry.path());
   }
-  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::sort(found.begin(), found.end(),
+            [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<fs::path> files;
   for (auto& [_, f] : found) files.push_back(std::move(f));
   return files;

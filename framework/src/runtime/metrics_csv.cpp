@@ -28,9 +28,9 @@ MetricsCsv::MetricsCsv(const std::filesystem::path& file, long long rows) : m_fi
     return;
   }
   if (lines.empty() || static_cast<long long>(lines.size()) - 1 < rows)
-    throw IoError(file.string() + " holds " +
-                  std::to_string(lines.empty() ? 0 : lines.size() - 1) + " rows, the checkpoint " +
-                  std::to_string(rows) + ": it does not belong to this checkpoint");
+    throw IoError(file.string() + " holds " + std::to_string(lines.empty() ? 0 : lines.size() - 1) +
+                  " rows, the checkpoint " + std::to_string(rows) +
+                  ": it does not belong to this checkpoint");
   std::stringstream header(lines[0]);
   for (std::string column; std::getline(header, column, ',');) m_columns.push_back(column);
   sdk::write_file_atomically(file, [&](std::ostream& out) {

@@ -274,7 +274,8 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
   if (options.resume) {
     const std::string where = summary.out_dir.string();
     if (!fs::exists(run_json))
-      throw IoError("cannot resume: " + where + " holds no run (no run.json); run the scene "
+      throw IoError("cannot resume: " + where +
+                    " holds no run (no run.json); run the scene "
                     "without --resume to start it");
     Json before;
     try {
@@ -287,9 +288,11 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
     if (!differences.empty()) {
       std::string list;
       for (const auto& d : differences) list += "\n  " + d;
-      throw Error("cannot resume the run in " + where + ": it was started with another scene "
-                  "or other plugins (" + scene.file.string() + " against " + run_json.string() +
-                  "):" + list + "\nUndo the change, or start afresh with --overwrite");
+      throw Error("cannot resume the run in " + where +
+                  ": it was started with another scene "
+                  "or other plugins (" +
+                  scene.file.string() + " against " + run_json.string() + "):" + list +
+                  "\nUndo the change, or start afresh with --overwrite");
     }
     std::string skipped;
     for (const auto& file : list_checkpoints(summary.out_dir)) {
@@ -462,20 +465,21 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
           summary.status = RunStatus::Interrupted;
           save_checkpoint(frame);  // before the partial frame: it is not a complete one
           write_frame(frame);  // the current state is good: keep it as a partial frame
-          summary.message = "interrupted by the user at step " + std::to_string(summary.steps) +
-                            " (t = " + std::to_string(loop.time()) + " s); frame " +
-                            std::to_string(frame) +
-                            " holds that state (partial frame), earlier frames are complete; "
-                            "continue with `shellflow run " + scene.file.string() + " --resume" +
-                            (options.out ? " --out " + summary.out_dir.string() : std::string()) +
-                            "`";
+          summary.message =
+              "interrupted by the user at step " + std::to_string(summary.steps) +
+              " (t = " + std::to_string(loop.time()) + " s); frame " + std::to_string(frame) +
+              " holds that state (partial frame), earlier frames are complete; "
+              "continue with `shellflow run " +
+              scene.file.string() + " --resume" +
+              (options.out ? " --out " + summary.out_dir.string() : std::string()) + "`";
           stop_reason = summary.message;
           break;
         }
       }
       if (stop_reason) break;
       write_frame(frame);
-      if (options.checkpoint_every > 0 && (frame % options.checkpoint_every == 0 || frame == frames))
+      if (options.checkpoint_every > 0 &&
+          (frame % options.checkpoint_every == 0 || frame == frames))
         save_checkpoint(frame + 1);
       if (options.on_progress) {
         Progress p;

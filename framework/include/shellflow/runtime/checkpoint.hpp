@@ -23,11 +23,11 @@ namespace shellflow::runtime {
 
 /// The run's counters at the checkpoint, besides the solvers' state.
 struct CheckpointMeta {
-  long long step = 0;        ///< steps taken (= metrics.csv rows after its header)
-  int next_frame = 1;        ///< the frame the resumed loop works on
-  double time = 0.0;         ///< sim time [s]
-  int frames_written = 0;    ///< complete frames written so far, frame 0 included
-  int last_frame = 0;        ///< the last complete frame
+  long long step = 0;      ///< steps taken (= metrics.csv rows after its header)
+  int next_frame = 1;      ///< the frame the resumed loop works on
+  double time = 0.0;       ///< sim time [s]
+  int frames_written = 0;  ///< complete frames written so far, frame 0 included
+  int last_frame = 0;      ///< the last complete frame
   long long metrics_rows = 0;
 };
 
