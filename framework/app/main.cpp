@@ -128,12 +128,14 @@ int plot_command(const std::string& run_dir, const std::vector<std::string>& col
 }
 
 int run_command(const std::string& scene_file, std::optional<int> frames,
-                std::optional<std::string> out, bool overwrite) {
+                std::optional<std::string> out, bool overwrite, int checkpoint_every, bool resume) {
   const auto scene = rt::load_scene(scene_file);
   rt::RunOptions options;
   options.frames = frames;
   if (out) options.out = *out;
   options.overwrite = overwrite;
+  options.checkpoint_every = checkpoint_every;
+  options.resume = resume;
   rt::ProgressPrinter printer(stderr);
   options.on_progress = [&](const rt::Progress& p) { printer.update(p); };
   options.stop_requested = &g_stop_requested;
@@ -229,7 +231,19 @@ int main(int argc, char** argv) {
   run->add_option("--frames", frames, "frames to simulate (default: the scene's /time/frames)")
       ->check(CLI::PositiveNumber);
   run->add_option("--out", out, "output folder (default: out/<scene name>)");
-  run->add_flag("--overwrite", overwrite, "replace the run already in the output folder");
+  auto* overwrite_flag =
+      run->add_flag("--overwrite", overwrite, "replace the run already in the output folder");
+  int checkpoint_every = 10;
+  bool resume = false;
+  run->add_option("--checkpoint-every", checkpoint_every,
+                  "write a checkpoint every N frames into <out>/checkpoints/, keeping the last "
+                  "two (0: only on Ctrl-C)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  run->add_flag("--resume", resume,
+                "continue the interrupted or crashed run in the output folder from its newest "
+                "readable checkpoint (refused if the scene or the plugins changed)")
+      ->excludes(overwrite_flag);
 
   auto* validate = app.add_subcommand(
       "validate", "check a scene and construct its plugins as run does, writing nothing");
@@ -263,7 +277,8 @@ int main(int argc, char** argv) {
 
   CLI11_PARSE(app, argc, argv);
   try {
-    if (run->parsed()) return run_command(scene_file, frames, out, overwrite);
+    if (run->parsed())
+      return run_command(scene_file, frames, out, overwrite, checkpoint_every, resume);
     if (validate->parsed()) return validate_command(scene_file);
     if (plugins->parsed()) return plugins_command(!brief);
     if (new_solid->parsed()) return new_solid_command(new_name, new_dir);

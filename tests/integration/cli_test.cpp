@@ -153,6 +153,21 @@ TEST_F(Cli, CtrlCEndsTheRunWithAReadableLastFrame) {
   std::snprintf(name, sizeof name, "plate_%04d.obj", last);
   const auto last_obj = read(out / "meshes" / name);
   EXPECT_THAT(last_obj, HasSubstr("\nf "));  // a complete mesh, not a torn file
+
+  // Ctrl-C left a checkpoint; --resume continues from it (here to one more frame).
+  EXPECT_TRUE(fs::exists(out / "checkpoints")) << "no checkpoint written on Ctrl-C";
+  const std::string frames = std::to_string(last + 1);
+  const auto both = shellflow("run " + file + " --out " + out.string() +
+                              " --resume --overwrite");
+  EXPECT_NE(both.exit_code, 0);
+  EXPECT_THAT(both.output, HasSubstr("--overwrite"));
+  const auto resumed = shellflow("run " + file + " --out " + out.string() +
+                                 " --resume --frames " + frames);
+  EXPECT_EQ(resumed.exit_code, 0) << resumed.output;
+  EXPECT_THAT(resumed.output, HasSubstr("resuming"));
+  const auto after = nlohmann::json::parse(read(out / "run.json"));
+  EXPECT_EQ(after["status"], "completed");
+  EXPECT_EQ(after["last_frame"], last + 1);
 }
 
 TEST_F(Cli, NewSolidWritesAPluginProjectAndRefusesBadNamesAndNonEmptyFolders) {

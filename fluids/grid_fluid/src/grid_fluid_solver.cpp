@@ -425,6 +425,11 @@ void GridFluid::save(sdk::StateWriter& out) const {
     write_vector(m_liquid->level_set().phi());
     m_liquid->particles().save(out);
   }
+  // What stable_dt() reads besides the fields: the shells' speed of the last projection
+  // and the body force of the last step. Without them a restored fluid (a resumed run)
+  // would choose another step than the run it continues.
+  out.write(m_shell_speed);
+  out.write(m_stats.max_force);
 }
 
 void GridFluid::restore(sdk::StateReader& in) {
@@ -447,6 +452,8 @@ void GridFluid::restore(sdk::StateReader& in) {
     read_vector(m_liquid->level_set().phi());
     m_liquid->particles().restore(in);
   }
+  m_shell_speed = in.read<double>();
+  m_stats.max_force = in.read<double>();
   m_geometry_n.reset();
   m_geometry_np1.reset();
   m_nodes_current = false;

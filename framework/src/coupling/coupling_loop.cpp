@@ -5,6 +5,8 @@
 #include <limits>
 #include <set>
 
+#include "shellflow/sdk/error.hpp"
+
 namespace shellflow::coupling {
 
 namespace {
@@ -160,6 +162,105 @@ PhaseTimes CouplingLoop::step(double dt, double time_to_frame_end_after_step) {
   m_time += dt;
   m_shells_n = shells_np1;
   return times;
+}
+
+namespace {
+constexpr std::uint32_t kLoopStateTag = 0x53464c31;  // "SFL1"
+}
+
+void CouplingLoop::save(sdk::StateWriter& out) const {
+  out.write(kLoopStateTag);
+  out.write(m_time);
+  out.write(m_ahead_dt);
+  out.write(m_forces_dt);
+  out.write<std::uint64_t>(m_shells_n.size());
+  for (const auto& s : m_shells_n) {
+    out.write_matrix(s.positions);
+    out.write_matrix(s.velocities);
+    out.write_matrix(s.surface_density);
+  }
+  out.write<std::uint64_t>(m_solid_states_np1.size());
+  for (const auto& state : m_solid_states_np1) out.write_bytes(state);
+  out.write<std::uint64_t>(m_forces.size());
+  for (const auto& f : m_forces) out.write_matrix(f);
+  // The solvers' own states, each in its own length-prefixed block so that a solver
+  // reading less or more than it wrote is caught here, not by the next solver.
+  out.write<std::uint8_t>(m_fluid != nullptr);
+  if (m_fluid) {
+    sdk::StateBuffer fluid;
+    sdk::StateWriter w(fluid);
+    m_fluid->save(w);
+    out.write_bytes(fluid);
+  }
+  out.write<std::uint64_t>(m_solids.size());
+  for (const auto* solid : m_solids) {
+    sdk::StateBuffer state;
+    sdk::StateWriter w(state);
+    solid->save(w);
+    out.write_bytes(state);
+  }
+}
+
+void CouplingLoop::restore(sdk::StateReader& in) {
+  const auto mismatch = [](const std::string& what) {
+    return Error("the saved coupling loop state does not fit this scene: " + what);
+  };
+  if (in.read<std::uint32_t>() != kLoopStateTag) throw mismatch("not a coupling loop state");
+  const double time = in.read<double>();
+  const double ahead_dt = in.read<double>();
+  const double forces_dt = in.read<double>();
+  // Solvers first (the shells' topology, names and flags come from them), then the
+  // loop's copies of the shells at n over what the solids expose at n+1.
+  const auto shell_count = in.read<std::uint64_t>();
+  std::vector<sdk::Positions> positions(shell_count), velocities(shell_count);
+  std::vector<Eigen::VectorXd> densities(shell_count);
+  for (std::uint64_t s = 0; s < shell_count; ++s) {
+    in.read_matrix(positions[s]);
+    in.read_matrix(velocities[s]);
+    in.read_matrix(densities[s]);
+  }
+  std::vector<sdk::StateBuffer> states_np1(in.read<std::uint64_t>());
+  for (auto& state : states_np1) state = in.read_bytes();
+  std::vector<sdk::TriangleVectors> forces(in.read<std::uint64_t>());
+  for (auto& f : forces) in.read_matrix(f);
+  const bool has_fluid = in.read<std::uint8_t>() != 0;
+  if (has_fluid != (m_fluid != nullptr))
+    throw mismatch(has_fluid ? "it has a fluid, the scene has none" : "it has no fluid");
+  if (m_fluid) {
+    const auto fluid = in.read_bytes();
+    sdk::StateReader r(fluid);
+    m_fluid->restore(r);
+    if (!r.at_end()) throw mismatch("the fluid's state is longer than the fluid reads");
+  }
+  const auto solid_count = in.read<std::uint64_t>();
+  if (solid_count != m_solids.size())
+    throw mismatch(std::to_string(solid_count) + " solids saved, the scene has " +
+                   std::to_string(m_solids.size()));
+  for (size_t i = 0; i < m_solids.size(); ++i) {
+    const auto state = in.read_bytes();
+    sdk::StateReader r(state);
+    m_solids[i]->restore(r);
+    if (!r.at_end())
+      throw mismatch("solid " + std::to_string(i) + "'s state is longer than it reads");
+  }
+  auto shells = gather_shells();
+  if (shells.size() != shell_count)
+    throw mismatch(std::to_string(shell_count) + " shells saved, the scene has " +
+                   std::to_string(shells.size()));
+  for (size_t s = 0; s < shells.size(); ++s) {
+    if (positions[s].rows() != shells[s].node_count())
+      throw mismatch("shell '" + shells[s].name + "' has another node count");
+    shells[s].positions = std::move(positions[s]);
+    shells[s].velocities = std::move(velocities[s]);
+    shells[s].surface_density = std::move(densities[s]);
+  }
+  if (!in.at_end()) throw mismatch("it is longer than the loop reads");
+  m_time = time;
+  m_ahead_dt = ahead_dt;
+  m_forces_dt = forces_dt;
+  m_shells_n = std::move(shells);
+  m_solid_states_np1 = std::move(states_np1);
+  m_forces = std::move(forces);
 }
 
 }  // namespace shellflow::coupling

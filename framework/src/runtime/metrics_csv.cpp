@@ -3,6 +3,10 @@
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
+#include <fstream>
+#include <sstream>
+
+#include "shellflow/sdk/atomic_file.hpp"
 
 #include "shellflow/sdk/error.hpp"
 
@@ -11,6 +15,29 @@ namespace shellflow::runtime {
 MetricsCsv::MetricsCsv(const std::filesystem::path& file) : m_file(file) {
   m_out = std::fopen(file.c_str(), "w");
   if (!m_out) throw IoError("cannot create " + file.string());
+}
+
+MetricsCsv::MetricsCsv(const std::filesystem::path& file, long long rows) : m_file(file) {
+  std::ifstream in(file, std::ios::binary);
+  std::vector<std::string> lines;
+  for (std::string line; std::getline(in, line);) lines.push_back(line);
+  in.close();
+  if (lines.empty() && rows == 0) {  // stopped before its first step: start it afresh
+    m_out = std::fopen(file.c_str(), "w");
+    if (!m_out) throw IoError("cannot create " + file.string());
+    return;
+  }
+  if (lines.empty() || static_cast<long long>(lines.size()) - 1 < rows)
+    throw IoError(file.string() + " holds " + std::to_string(lines.empty() ? 0 : lines.size() - 1) +
+                  " rows, the checkpoint " + std::to_string(rows) +
+                  ": it does not belong to this checkpoint");
+  std::stringstream header(lines[0]);
+  for (std::string column; std::getline(header, column, ',');) m_columns.push_back(column);
+  sdk::write_file_atomically(file, [&](std::ostream& out) {
+    for (long long i = 0; i <= rows; ++i) out << lines[static_cast<size_t>(i)] << '\n';
+  });
+  m_out = std::fopen(file.c_str(), "a");
+  if (!m_out) throw IoError("cannot open " + file.string() + " to append");
 }
 
 MetricsCsv::~MetricsCsv() {

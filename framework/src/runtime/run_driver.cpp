@@ -5,9 +5,11 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <fstream>
 #include <memory>
 
 #include "shellflow/coupling/coupling_loop.hpp"
+#include "shellflow/runtime/checkpoint.hpp"
 #include "shellflow/runtime/metrics_csv.hpp"
 #include "shellflow/runtime/output_folder.hpp"
 #include "shellflow/runtime/plugin_instance.hpp"
@@ -133,6 +135,58 @@ Json run_plan(const Scene& scene, sdk::ShellSet shells, const sdk::FluidSolver* 
   return plan;
 }
 
+/// What makes the run in run.json (`before`) another run than the one about to start
+/// (`now`): the resolved scene, the plugins and their versions, shellflow and its build.
+std::vector<std::string> resume_differences(const Json& before, const Json& now) {
+  std::vector<std::string> out;
+  const auto short_dump = [](const Json& j) {
+    std::string s = j.dump();
+    return s.size() > 80 ? s.substr(0, 77) + "..." : s;
+  };
+  for (const char* key : {"shellflow_version", "plugin_abi", "build_signature"}) {
+    const Json was = before.value(key, Json());
+    if (was != now.at(key))
+      out.push_back(std::string(key) + " was " + short_dump(was) + ", now " +
+                    short_dump(now.at(key)));
+  }
+  const Json plugins_before = before.value("plugins", Json::array());
+  const auto& plugins_now = now.at("plugins");
+  for (size_t i = 0; i < std::max(plugins_before.size(), plugins_now.size()); ++i) {
+    const auto describe = [](const Json& p) {
+      return p.value("role", std::string()) + " '" + p.value("name", std::string()) + "' (" +
+             p.value("plugin", std::string()) + " " + p.value("version", std::string()) + ")";
+    };
+    if (i >= plugins_before.size()) {
+      out.push_back("plugin added: " + describe(plugins_now[i]));
+    } else if (i >= plugins_now.size()) {
+      out.push_back("plugin removed: " + describe(plugins_before[i]));
+    } else {
+      bool same = true;
+      for (const char* k : {"role", "name", "plugin", "version"})
+        same = same && plugins_before[i].value(k, Json()) == plugins_now[i].at(k);
+      if (!same)
+        out.push_back("plugin " + describe(plugins_before[i]) + " is now " +
+                      describe(plugins_now[i]));
+    }
+  }
+  const Json config_before = before.value("config", Json());
+  for (const auto& op : Json::diff(config_before, now.at("config"))) {
+    const std::string path = op.at("path").get<std::string>();
+    const Json::json_pointer pointer(path);
+    const std::string what = op.at("op").get<std::string>();
+    if (what == "add") {
+      out.push_back("scene " + path + " added: " + short_dump(op.at("value")));
+    } else if (what == "remove") {
+      out.push_back("scene " + path + " removed (was " + short_dump(config_before.at(pointer)) +
+                    ")");
+    } else {
+      out.push_back("scene " + path + " was " + short_dump(config_before.at(pointer)) + ", now " +
+                    short_dump(op.at("value")));
+    }
+  }
+  return out;
+}
+
 }  // namespace
 
 ScenePlugins construct_plugins(const Scene& scene) {
@@ -183,7 +237,10 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
 
   RunSummary summary;
   summary.out_dir = options.out.value_or(fs::path("out") / scene.name);
-  prepare_output_folder(summary.out_dir, options.overwrite);
+  if (options.resume && options.overwrite)
+    throw Error("--resume continues the run in " + summary.out_dir.string() +
+                " and --overwrite replaces it: give one of them");
+  if (!options.resume) prepare_output_folder(summary.out_dir, options.overwrite);
 
   Json run;
   run["scene"] = scene.name;
@@ -210,9 +267,82 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
   run["plugins"] = plugins;
   run["config"] = scene.resolved;
   const fs::path run_json = summary.out_dir / "run.json";
+
+  // Resume: the run in the folder must be this scene with these plugins; its newest
+  // checkpoint that reads and restores is where it continues. Nothing is written before.
+  std::optional<Checkpoint> resumed;
+  if (options.resume) {
+    const std::string where = summary.out_dir.string();
+    if (!fs::exists(run_json))
+      throw IoError("cannot resume: " + where +
+                    " holds no run (no run.json); run the scene "
+                    "without --resume to start it");
+    Json before;
+    try {
+      std::ifstream in(run_json);
+      before = Json::parse(in);
+    } catch (const std::exception& e) {
+      throw IoError("cannot resume: " + run_json.string() + " cannot be read: " + e.what());
+    }
+    const auto differences = resume_differences(before, run);
+    if (!differences.empty()) {
+      std::string list;
+      for (const auto& d : differences) list += "\n  " + d;
+      throw Error("cannot resume the run in " + where +
+                  ": it was started with another scene "
+                  "or other plugins (" +
+                  scene.file.string() + " against " + run_json.string() + "):" + list +
+                  "\nUndo the change, or start afresh with --overwrite");
+    }
+    std::string skipped;
+    for (const auto& file : list_checkpoints(summary.out_dir)) {
+      try {
+        Checkpoint c = read_checkpoint(file);
+        sdk::StateReader in(c.state);
+        loop.restore(in);
+        resumed = std::move(c);
+        break;
+      } catch (const Error& e) {
+        spdlog::warn("skipping checkpoint {}: {}", file.string(), e.what());
+        skipped += "\n  " + file.filename().string() + ": " + e.what();
+      }
+    }
+    if (!resumed)
+      throw IoError("cannot resume the run in " + where + ": no readable checkpoint in " +
+                    checkpoint_folder(summary.out_dir).string() +
+                    (skipped.empty() ? std::string(" (there is none)") : ":" + skipped) +
+                    "\nStart afresh with --overwrite");
+    // Checkpoints after the one resumed from belong to the abandoned continuation (or are
+    // the damaged ones skipped): remove them so that only this run's stay.
+    for (const auto& file : list_checkpoints(summary.out_dir)) {
+      if (file == resumed->file) break;
+      std::error_code ec;
+      fs::remove(file, ec);
+    }
+    summary.resumed_from_step = resumed->meta.step;
+    summary.steps = resumed->meta.step;
+    summary.frames_written = resumed->meta.frames_written;
+    summary.last_frame = resumed->meta.last_frame;
+    spdlog::info("resuming {} from {} (step {}, t = {} s)", where, resumed->file.string(),
+                 resumed->meta.step, resumed->meta.time);
+    const Json plan = before.value("plan", Json());
+    Json history = before.value("resumed", Json::array());
+    history.push_back({{"at", now_iso8601()},
+                       {"checkpoint", resumed->file.filename().string()},
+                       {"step", resumed->meta.step},
+                       {"time", resumed->meta.time}});
+    run["started"] = before.value("started", run["started"]);
+    run["resumed"] = history;
+    if (!plan.is_null()) run["plan"] = plan;
+  }
   sdk::write_file_atomically(run_json, [&](std::ostream& out) { out << run.dump(2) << "\n"; });
 
-  MetricsCsv metrics(summary.out_dir / "metrics.csv");
+  std::optional<MetricsCsv> metrics_storage;
+  if (resumed)
+    metrics_storage.emplace(summary.out_dir / "metrics.csv", resumed->meta.metrics_rows);
+  else
+    metrics_storage.emplace(summary.out_dir / "metrics.csv");
+  MetricsCsv& metrics = *metrics_storage;
   const sdk::RunInfo info{summary.out_dir, scene.name, scene.time.fps};
   for (auto& w : writers) w->begin(info);
 
@@ -243,14 +373,35 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
     sdk::write_file_atomically(run_json, [&](std::ostream& out) { out << run.dump(2) << "\n"; });
   };
 
+  // The whole state, with the counters a resumed run starts from (`next_frame`: the frame
+  // the loop works on next, the current one when stopped within it).
+  const auto save_checkpoint = [&](int next_frame) {
+    sdk::StateBuffer state;
+    sdk::StateWriter out(state);
+    loop.save(out);
+    CheckpointMeta meta;
+    meta.step = summary.steps;
+    meta.next_frame = next_frame;
+    meta.time = loop.time();
+    meta.frames_written = summary.frames_written;
+    meta.last_frame = summary.last_frame;
+    meta.metrics_rows = summary.steps;  // one row per step
+    write_checkpoint(summary.out_dir, meta, state);
+  };
+
   try {
-    loop.start(0.0, frame_dt);
-    run["plan"] = run_plan(scene, loop.shells(), fluid ? fluid->get() : nullptr);
-    write_frame(0);
+    int first_frame = 1;
+    if (resumed) {
+      first_frame = resumed->meta.next_frame;
+    } else {
+      loop.start(0.0, frame_dt);
+      run["plan"] = run_plan(scene, loop.shells(), fluid ? fluid->get() : nullptr);
+      write_frame(0);
+    }
 
     sdk::Metrics reported;
     std::optional<std::string> stop_reason;
-    for (int frame = 1; frame <= frames && !stop_reason; ++frame) {
+    for (int frame = first_frame; frame <= frames && !stop_reason; ++frame) {
       const auto frame_start = Clock::now();
       const double frame_end = frame * frame_dt;
       // Steps end exactly on the frame time (to round-off relative to it).
@@ -312,17 +463,24 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
         }
         if (options.stop_requested && options.stop_requested->load()) {
           summary.status = RunStatus::Interrupted;
+          save_checkpoint(frame);  // before the partial frame: it is not a complete one
           write_frame(frame);  // the current state is good: keep it as a partial frame
-          summary.message = "interrupted by the user at step " + std::to_string(summary.steps) +
-                            " (t = " + std::to_string(loop.time()) + " s); frame " +
-                            std::to_string(frame) +
-                            " holds that state (partial frame), earlier frames are complete";
+          summary.message =
+              "interrupted by the user at step " + std::to_string(summary.steps) +
+              " (t = " + std::to_string(loop.time()) + " s); frame " + std::to_string(frame) +
+              " holds that state (partial frame), earlier frames are complete; "
+              "continue with `shellflow run " +
+              scene.file.string() + " --resume" +
+              (options.out ? " --out " + summary.out_dir.string() : std::string()) + "`";
           stop_reason = summary.message;
           break;
         }
       }
       if (stop_reason) break;
       write_frame(frame);
+      if (options.checkpoint_every > 0 &&
+          (frame % options.checkpoint_every == 0 || frame == frames))
+        save_checkpoint(frame + 1);
       if (options.on_progress) {
         Progress p;
         p.frame = frame;
@@ -331,7 +489,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
         p.seconds_per_frame = seconds_since(frame_start);
         p.steps = summary.steps;
         const double elapsed = seconds_since(wall_start);
-        p.eta_seconds = elapsed / frame * (frames - frame);
+        p.eta_seconds = elapsed / (frame - first_frame + 1) * (frames - frame);
         options.on_progress(p);
       }
     }

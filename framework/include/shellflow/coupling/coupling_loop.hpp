@@ -61,6 +61,14 @@ class CouplingLoop {
   /// Names of the solids' surfaces must be unique; returns the first duplicate, if any.
   std::optional<std::string> duplicate_surface_name() const;
 
+  /// The whole state of a started loop, for a checkpoint: the loop's own (time, shells at
+  /// n, the solids' saved states at n+1, the last forces and their step, the look-ahead
+  /// step), then the fluid's and each solid's save(). restore() replaces start() on
+  /// resume: the next step() is then bit for bit the step the saved loop would have taken.
+  void save(sdk::StateWriter& out) const;
+  /// @throw Error when the state was saved by a loop with other solvers or shells.
+  void restore(sdk::StateReader& in);
+
  private:
   std::vector<sdk::ShellSurface> gather_shells() const;
   void advance_solids(double t, double dt, std::span<const sdk::TriangleVectors> forces);

@@ -14,6 +14,10 @@ namespace shellflow::runtime {
 class MetricsCsv {
  public:
   explicit MetricsCsv(const std::filesystem::path& file);
+  /// Continues the metrics.csv of a resumed run: keeps its header and its first `rows`
+  /// rows (the steps before the checkpoint), drops the rest, and appends after them.
+  /// @throw IoError when the file holds fewer rows (then it does not fit the checkpoint).
+  MetricsCsv(const std::filesystem::path& file, long long rows);
   ~MetricsCsv();
   MetricsCsv(const MetricsCsv&) = delete;
   MetricsCsv& operator=(const MetricsCsv&) = delete;

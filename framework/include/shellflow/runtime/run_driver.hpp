@@ -22,6 +22,12 @@ struct RunOptions {
   bool overwrite = false;
   std::function<void(const Progress&)> on_progress;   ///< after each frame
   const std::atomic<bool>* stop_requested = nullptr;  ///< checked after every step
+  /// A checkpoint every this many frames (0: none) and on a stop request, in
+  /// <out>/checkpoints/, the last two kept (see checkpoint.hpp).
+  int checkpoint_every = 10;
+  /// Continue the run in `out` from its newest readable checkpoint. Refused when the scene
+  /// (run.json's "config"), the plugins or their versions, or the build changed since.
+  bool resume = false;
 };
 
 enum class RunStatus { Completed, Interrupted, NumericalFailure, Failed };
@@ -35,6 +41,7 @@ struct RunSummary {
   double sim_time = 0.0;
   long long steps = 0;
   double wall_seconds = 0.0;
+  std::optional<long long> resumed_from_step;  ///< set when the run was resumed
   std::string message;  ///< for Interrupted / NumericalFailure: what, where, what to try
 };
 
@@ -54,6 +61,8 @@ struct ScenePlugins {
 ScenePlugins construct_plugins(const Scene& scene);
 
 /// @throw SceneError, PluginError, IoError before anything is written; IoError later.
+/// With options.resume: Error (what changed) when the scene or the plugins differ from the
+/// run's run.json, IoError when no checkpoint can be read; nothing is written then.
 RunSummary run_scene(const Scene& scene, const RunOptions& options);
 
 }  // namespace shellflow::runtime
