@@ -11,6 +11,7 @@
 #include <thread>
 
 #include "scratch_folder.hpp"
+#include "shell_command.hpp"
 
 namespace shellflow {
 namespace {
@@ -19,10 +20,7 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using ::testing::Not;
 
-struct Result {
-  int exit_code;
-  std::string output;
-};
+using Result = shellflow::testing::ShellResult;
 
 class Cli : public shellflow::testing::ScratchFolder {
  protected:
@@ -31,13 +29,7 @@ class Cli : public shellflow::testing::ScratchFolder {
   Result shellflow_in(const fs::path& dir, const std::string& args) { return run_in(dir, args); }
   Result run_in(const fs::path& dir, const std::string& args) {
     const std::string cd = dir.empty() ? "" : "cd '" + dir.string() + "' && ";
-    const std::string cmd = cd + std::string(SHELLFLOW_CLI) + " " + args + " 2>&1";
-    FILE* pipe = popen(cmd.c_str(), "r");
-    std::string out;
-    char buf[4096];
-    while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-    const int status = pclose(pipe);
-    return {WEXITSTATUS(status), out};
+    return shellflow::testing::run_shell(cd + std::string(SHELLFLOW_CLI) + " " + args);
   }
   std::string scene(const std::string& body) { return write("scene.json", body).string(); }
 };

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "scratch_folder.hpp"
+#include "shell_command.hpp"
 
 namespace shellflow {
 namespace {
@@ -24,19 +25,10 @@ constexpr const char* kScene = R"({"name": "drop", "time": {"fps": 12, "frames":
   "solids": [{"plugin": "template_solid", "name": "plate", "nodes": 3}],
   "outputs": [{"plugin": "preview_writer", "camera": {"width": 33, "height": 25}}]})";
 
-struct Result {
-  int exit_code;
-  std::string output;
-};
+using Result = shellflow::testing::ShellResult;
+using shellflow::testing::run_shell;
 
-Result sh(const std::string& cmd) {
-  FILE* pipe = popen((cmd + " 2>&1").c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-  const int status = pclose(pipe);
-  return {WEXITSTATUS(status), out};
-}
+Result sh(const std::string& cmd) { return run_shell(cmd); }
 
 bool have(const std::string& tool) {
   return sh("command -v " + tool).exit_code == 0;

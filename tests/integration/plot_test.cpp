@@ -9,6 +9,7 @@
 #include <string>
 
 #include "scratch_folder.hpp"
+#include "shell_command.hpp"
 
 namespace shellflow {
 namespace {
@@ -16,19 +17,10 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-struct Result {
-  int exit_code;
-  std::string output;
-};
+using Result = shellflow::testing::ShellResult;
+using shellflow::testing::run_shell;
 
-Result sh(const std::string& cmd) {
-  FILE* pipe = popen((cmd + " 2>&1").c_str(), "r");
-  std::string out;
-  char buf[4096];
-  while (size_t n = fread(buf, 1, sizeof buf, pipe)) out.append(buf, n);
-  const int status = pclose(pipe);
-  return {WEXITSTATUS(status), out};
-}
+Result sh(const std::string& cmd) { return run_shell(cmd); }
 
 class Plot : public testing::ScratchFolder {
  protected:

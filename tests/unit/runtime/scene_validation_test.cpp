@@ -102,7 +102,7 @@ TEST_F(SceneFiles, NumberBeyondADoubleIsASyntaxErrorWithLineAndColumn) {
 }
 
 TEST_F(SceneFiles, SceneNameThatLeavesOutIsRefusedAtName) {
-  for (const char* name : {"../../x", "a/b", "..", ".hidden", "/tmp/x", "with space", ""})
+  for (const char* name : {"../../x", "a/b", "..", ".hidden", "/abs/x", "with space", ""})
     expect_issue(with_solid(kPlate, R"(, "name": ")" + std::string(name) + "\""), "/name",
                  "must be a plain file name: letters, digits, '_', '-' and '.', not starting "
                  "with '.'");
@@ -129,14 +129,14 @@ TEST_F(SceneFiles, FileStemStartingWithADotNeedsAName) {
 TEST_F(SceneFiles, WriterFolderMustStayInsideTheRunFolder) {
   const auto issues = issues_of(
       with_solid(kPlate, R"(, "outputs": [{"plugin": "obj_writer", "folder": "../elsewhere"},
-                              {"plugin": "ply_writer", "folder": "/tmp/abs"},
+                              {"plugin": "ply_writer", "folder": "/abs/out"},
                               {"plugin": "ply_writer", "folder": "a/../../b"},
                               {"plugin": "obj_writer", "folder": "meshes/cloth", "name": "ok"}])"));
   ASSERT_EQ(issues.size(), 3u);
   EXPECT_EQ(issues[0].json_path, "/outputs/0/folder");
   EXPECT_THAT(issues[0].message, HasSubstr("'../elsewhere' holds a '..' component"));
   EXPECT_EQ(issues[1].json_path, "/outputs/1/folder");
-  EXPECT_THAT(issues[1].message, HasSubstr("'/tmp/abs' is an absolute path"));
+  EXPECT_THAT(issues[1].message, HasSubstr("'/abs/out' is an absolute path"));
   EXPECT_EQ(issues[2].json_path, "/outputs/2/folder");
   EXPECT_THAT(issues[2].message, HasSubstr("a relative path without '..'"));
 }
