@@ -3,11 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 
 #include "grid_fluid_test_support.hpp"
 #include "shellflow/grid_fluid/water/fast_marching.hpp"
+#include "shellflow/grid_fluid/water/level_set.hpp"
 
 namespace shellflow::grid_fluid {
 namespace {
@@ -321,6 +323,41 @@ TEST(FastMarching, ReinitialisesAStretchedSphereToItsDistance) {
     EXPECT_EQ(phi[i] <= 0.0, exact <= 0.0 || std::abs(exact) < 1e-12);
   }
   EXPECT_LT(worst, 0.6 * grid.dx());
+}
+
+TEST(FastMarching, RepeatedReinitialisationKeepsASphere) {
+  // A signed distance is a fixed point of reinitialisation: run 200 times (a second of
+  // water at 200 steps per second), a sphere of r = 5.3Δx must keep its radius. Measured
+  // on this sphere: the axis-crossing plane 1/sqrt(Σ 1/d_a^2) at the interface nodes
+  // with a first-order march moved the surface 0.22Δx inwards (-11% of the volume; -0.4%
+  // of a 3D dam break's water every step); |φ|/|∇φ| with central differences and the
+  // second-order march, 0.021Δx outwards. Bounds: 0.03Δx on the interface nodes' mean
+  // error, and 5% on the volume (its Heaviside also weighs the marched nodes 1.5Δx out).
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 24, Eigen::Vector3i(24, 24, 24));
+  const double dx = grid.dx();
+  const Eigen::Vector3d c(0.5 + 0.31 * dx, 0.5 - 0.17 * dx, 0.5 + 0.07 * dx);  // off the nodes
+  const double r = 5.3 * dx;
+  LevelSet level_set(grid, 6.0 * dx);
+  auto& phi = level_set.phi();
+  for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i)
+    phi[i] = std::clamp((grid.position(Location::Node, i) - c).norm() - r, -6.0 * dx, 6.0 * dx);
+  const double v0 = level_set.volume();
+  FastMarching fmm(grid);
+  for (int pass = 0; pass < 200; ++pass)
+    fmm.reinitialize(phi, level_set.band(), ShellGeometry(), nullptr);
+  EXPECT_NEAR(level_set.volume(), v0, 0.05 * v0);
+  // Mean radius of the zero set: the interface nodes (within Δx/2 of it, so each has an
+  // axis neighbour across it), each moved by its φ.
+  double drift = 0.0;
+  int nodes = 0;
+  for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i) {
+    const double exact = (grid.position(Location::Node, i) - c).norm() - r;
+    if (std::abs(exact) > 0.5 * dx) continue;
+    drift += phi[i] - exact;
+    ++nodes;
+  }
+  ASSERT_GT(nodes, 0);
+  EXPECT_LT(std::abs(drift / nodes), 0.03 * dx);
 }
 
 /// One static shell as a fast-marching test hands it over: its geometry (ε = 1e-3 Δx,

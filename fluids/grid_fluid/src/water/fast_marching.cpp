@@ -1,6 +1,7 @@
 #include "shellflow/grid_fluid/water/fast_marching.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <queue>
@@ -53,25 +54,34 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
     const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, i);
     const double p = phi[i];
     const bool water = p <= 0.0;
-    double inverse_sum = 0.0;
     bool found = false;
     const bool held = m_hidden[i] != 0;
+    double nearest_crossing = kInf;  // along an axis: an upper bound on the distance
+    double gradient_squared = 0.0;
     for (int a = 0; a < 3; ++a) {
-      double d = kInf;
+      double difference = 0.0, span = 0.0;  // φ's difference over the visible neighbours
       for (int side = 0; side < 2; ++side) {
         const int c = ijk[a] + (side == 0 ? -1 : 1);
         if (c < 0 || c >= n[a]) continue;
+        if ((m_hidden[i] >> (2 * a + side) & 1u) != 0) continue;  // nothing across it
         const std::int64_t j = i + (side == 0 ? -stride[a] : stride[a]);
-        if ((m_hidden[i] >> (2 * a + side) & 1u) != 0) continue;  // no crossing across it
-        if ((phi[j] <= 0.0) != water) d = std::min(d, dx * p / (p - phi[j]));  // > 0
+        difference += side == 0 ? p - phi[j] : phi[j] - p;
+        span += dx;
+        if ((phi[j] <= 0.0) != water) {
+          found = true;
+          nearest_crossing = std::min(nearest_crossing, dx * p / (p - phi[j]));  // > 0
+        }
       }
-      if (d < kInf) {
-        found = true;
-        d = std::max(d, 1e-12 * dx);
-        inverse_sum += 1.0 / (d * d);
-      }
+      if (span > 0.0) gradient_squared += (difference / span) * (difference / span);
     }
-    double dist = found ? 1.0 / std::sqrt(inverse_sum) : kInf;
+    // |φ|/|∇φ|: the distance to the zero of φ's linearisation, no farther than the nearest
+    // crossing (a thin sheet's φ has no gradient across it).
+    double dist = kInf;
+    if (found) {
+      const double gradient = std::sqrt(gradient_squared);
+      dist = gradient * nearest_crossing > std::abs(p) ? std::abs(p) / gradient : nearest_crossing;
+      dist = std::max(dist, 1e-12 * dx);
+    }
     if (held) dist = std::min(dist, std::abs(p));
     m_accepted[i] = found ? 1 : 0;
     m_held[i] = (!found && held) ? 1 : 0;
@@ -83,35 +93,62 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
   // March outwards in |φ| from the interface, each sign on its own side.
   using Entry = std::pair<double, std::int64_t>;
   std::priority_queue<Entry, std::vector<Entry>, std::greater<>> heap;
+  // Second-order upwind (Sethian 1999): along an axis whose two nodes upwind are accepted
+  // and ordered, ∂φ ≈ (3d − 4a1 + a2)/(2Δx) = (3/2)(d − (4a1 − a2)/3)/Δx; otherwise first
+  // order, (d − a1)/Δx. Second-order values leave the interface nodes' next |φ|/|∇φ|
+  // unpolluted (first-order ones overstate |φ| a cell out, and the surface drifted).
   const auto update = [&](std::int64_t i) {
     const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, i);
     const bool water = phi[i] <= 0.0;
-    double a[3];
+    // The accepted distance of from's neighbour, signed for this side (an interface node
+    // across the surface counts negative: the signed distance is smooth across it);
+    // +inf where there is none, it lies across a shell, or (unless `across`) it is across.
+    const auto upwind = [&](std::int64_t from, int ax, int side, bool across) -> double {
+      const int c = m_grid.coordinates(Location::Node, from)[ax] + (side == 0 ? -1 : 1);
+      if (c < 0 || c >= n[ax]) return kInf;
+      if ((m_hidden[from] >> (2 * ax + side) & 1u) != 0) return kInf;  // never across a shell
+      const std::int64_t j = from + (side == 0 ? -stride[ax] : stride[ax]);
+      if (m_accepted[j] == 0) return kInf;
+      if ((phi[j] <= 0.0) == water) return m_distance[j];
+      return across ? -m_distance[j] : kInf;
+    };
+    std::array<std::pair<double, double>, 3> terms;  // (upwind value ã, weight)
+    int used = 0;
     for (int ax = 0; ax < 3; ++ax) {
-      a[ax] = kInf;
+      double best = kInf, weight = 1.0, shifted = kInf;
       for (int side = 0; side < 2; ++side) {
-        const int c = ijk[ax] + (side == 0 ? -1 : 1);
-        if (c < 0 || c >= n[ax]) continue;
-        if ((m_hidden[i] >> (2 * ax + side) & 1u) != 0) continue;  // never across a shell
+        const double a1 = upwind(i, ax, side, false);
+        if (a1 == kInf) continue;
+        double a = a1, w = 1.0;
         const std::int64_t j = i + (side == 0 ? -stride[ax] : stride[ax]);
-        if (m_accepted[j] == 0 || (phi[j] <= 0.0) != water) continue;
-        a[ax] = std::min(a[ax], m_distance[j]);
+        {
+          const double a2 = upwind(j, ax, side, true);
+          if (a2 <= a1) {
+            a = (4.0 * a1 - a2) / 3.0;
+            w = 2.25;
+          }
+        }
+        if (a1 < best) {
+          best = a1;
+          shifted = a;
+          weight = w;
+        }
       }
+      if (best < kInf) terms[used++] = {shifted, weight};
     }
-    std::sort(a, a + 3);
-    if (a[0] == kInf) return;
-    // Upwind quadratic Σ (d − a_k)^2 = dx^2 over the k smallest a that lie below d.
-    double d = a[0] + dx;
-    if (d > a[1]) {
-      const double s = a[0] + a[1];
-      const double disc = s * s - 2.0 * (a[0] * a[0] + a[1] * a[1] - dx * dx);
-      d = 0.5 * (s + std::sqrt(std::max(disc, 0.0)));
-      if (d > a[2]) {
-        const double s3 = a[0] + a[1] + a[2];
-        const double q = a[0] * a[0] + a[1] * a[1] + a[2] * a[2] - dx * dx;
-        const double disc3 = s3 * s3 - 3.0 * q;
-        d = (s3 + std::sqrt(std::max(disc3, 0.0))) / 3.0;
-      }
+    if (used == 0) return;
+    std::sort(terms.begin(), terms.begin() + used);
+    // Σ w_k (d − ã_k)^2 = Δx^2 over the k smallest ã that lie below d.
+    double d = kInf;
+    double sw = 0.0, swa = 0.0, swa2 = 0.0;
+    for (int k = 0; k < used; ++k) {
+      const auto [a, w] = terms[k];
+      if (k > 0 && d <= a) break;
+      sw += w;
+      swa += w * a;
+      swa2 += w * a * a;
+      const double disc = swa * swa - sw * (swa2 - dx * dx);
+      d = (swa + std::sqrt(std::max(disc, 0.0))) / sw;
     }
     if (d < m_distance[i]) {
       m_distance[i] = d;

@@ -1,12 +1,16 @@
 #pragma once
 // FastMarching: reinitialises the water's level set to a signed distance within a band
-// (§4.4.1, Guendelman et al. 2005; first-order fast marching, Sethian 1996, as in Osher
-// and Fedkiw 2002 ch. 7), never across a thin shell:
+// (§4.4.1, Guendelman et al. 2005; fast marching, Sethian 1996, as in Osher and Fedkiw
+// 2002 ch. 7, with second-order upwind differences where two accepted nodes allow),
+// never across a thin shell:
 //  - the interface nodes are those with a sign change to a *visible* axis neighbour; a
 //    node with φ > 0 and no visible neighbour with φ <= 0 is not one (water has no
-//    influence across the shell). Each one's distance combines, over the axes, the
-//    distance to the crossing along that axis (linear interpolation, φ_i / (φ_i − φ_j) Δx,
-//    towards visible neighbours only): |φ| = 1 / sqrt(Σ_axes 1/d_a^2);
+//    influence across the shell). Each one's distance is |φ|/|∇φ| (central differences
+//    over its visible neighbours, one-sided where only one is visible), no more than the
+//    nearest crossing along an axis (linear interpolation, φ_i / (φ_i − φ_j) Δx, towards
+//    visible neighbours only). The paper's 1 / sqrt(Σ_axes 1/d_a^2), the plane through
+//    the axis crossings, understates |φ| inside a convex surface and overstates it outside:
+//    reinitialised every step, water shrank by 0.4% a step in a 3D dam break;
 //  - a node with a neighbour it cannot see is *held*: its distance is at most its own |φ|
 //    (as an interface node, the smaller of the two; otherwise a tentative value the march
 //    may still lower). The surface it is near may lie behind the shell's edge, where the
@@ -19,8 +23,11 @@
 //    thin dam sank 0.9Δx in 2 s. Holding, both stay still (1e-8 m/s) and level. Water
 //    cannot stick either: a held node's |φ| never grows, and advection empties it;
 //  - the march accepts nodes in increasing |φ|, each from its accepted visible neighbours
-//    of the same sign (the upwind quadratic of the eikonal equation |∇φ| = 1), and stops
-//    at the band; nodes beyond it are set to ±band.
+//    of the same sign (the upwind quadratic of the eikonal equation |∇φ| = 1; second order
+//    along an axis where the next node upwind is accepted too, an interface node across
+//    the surface counting with its signed distance), and stops at the band; nodes beyond
+//    it are set to ±band. First-order marched values a cell out overstate |φ| and made
+//    the next pass's central differences move the surface.
 // Visibility is decided by rays only for nodes in the shell band.
 
 #include <cstdint>
