@@ -594,6 +594,12 @@ std::vector<sdk::PlanEntry> GridFluid::plan() const {
     out.push_back({"water", true,
                    "/fluid/water given: level set, fast marching, velocity extrapolation, "
                    "free-surface pressure (§4.4)"});
+    out.push_back({"maccormack_level_set", m_liquid->maccormack(),
+                   m_liquid->maccormack()
+                       ? "/fluid/water/advection = maccormack: φ traced forward and back, "
+                         "corrected (Selle et al. 2008)"
+                       : "/fluid/water/advection = semi_lagrangian: the paper's trilinear "
+                         "step for φ (§4.4.1)"});
     out.push_back({"particle_level_set", m_liquid->particles().enabled(),
                    m_liquid->particles().enabled()
                        ? "/fluid/water/particles/per_cell > 0: marker particles correct the "

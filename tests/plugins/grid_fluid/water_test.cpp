@@ -360,6 +360,40 @@ TEST(FastMarching, RepeatedReinitialisationKeepsASphere) {
   EXPECT_LT(std::abs(drift / nodes), 0.03 * dx);
 }
 
+/// A box of water collapsing in a narrow tank (0.344 x 0.5 x 0.344 m at `resolution` cells
+/// up, the box 0.05-0.29 m across, 0.19 m high) for `duration` s with φ advected by
+/// `advection`: its volume at the end over its volume at the start.
+double collapsing_box_volume_ratio(int resolution, const char* advection, double duration) {
+  auto fluid = test::make_fluid(
+      {{"domain", {{"min", {0.0, 0.0, 0.0}}, {"max", {0.34375, 0.5, 0.34375}}}},
+       {"resolution", resolution},
+       {"pressure", {{"tolerance", 1e-6}}},
+       {"water",
+        {{"advection", advection},
+         {"initial",
+          {{{"type", "box"}, {"min", {0.05, 0.0, 0.05}}, {"max", {0.29, 0.19, 0.29}}}}}}}});
+  const double v0 = fluid->liquid()->level_set().volume();
+  run_for(*fluid, duration, {}, {});
+  return fluid->liquid()->level_set().volume() / v0;
+}
+
+TEST(LevelSetAdvection, MacCormackKeepsTheWaterOfABoxCollapsingInANarrowTank) {
+  // 24 cells up (16.5 across), 0.6 s: the box falls, runs up all four walls and back.
+  // The trilinear step smooths φ every step and the sheets on the walls and the sloshing
+  // body shrink (measured: -40%, and -40% in 1 s at 32 cells up; MacCormack +0.0% and
+  // +0.4%: a 3% swing in between); MacCormack's correction
+  // (Selle et al. 2008) is second order where φ is smooth. Bounds: the trilinear loss is
+  // more than 10% (the case shows the difference), MacCormack's change less than a
+  // fifth of it.
+  const double trilinear = collapsing_box_volume_ratio(24, "semi_lagrangian", 0.6);
+  const double maccormack = collapsing_box_volume_ratio(24, "maccormack", 0.6);
+  std::printf("[  figure  ] box collapsing in a narrow tank, 24 cells up, 0.6 s, level set "
+              "alone: volume %+.1f%% semi-Lagrangian, %+.1f%% MacCormack\n",
+              100.0 * (trilinear - 1.0), 100.0 * (maccormack - 1.0));
+  EXPECT_LT(trilinear, 0.9);
+  EXPECT_LT(std::abs(maccormack - 1.0), 0.2 * (1.0 - trilinear));
+}
+
 /// One static shell as a fast-marching test hands it over: its geometry (ε = 1e-3 Δx,
 /// the PhysBAM default) and its band (2Δx).
 struct StaticShell {

@@ -2,7 +2,10 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <bit>
+#include <cmath>
+#include <limits>
 
 #include "shellflow/geometry/gauss_jacobi_refill.hpp"
 
@@ -10,9 +13,43 @@ namespace shellflow::grid_fluid {
 
 using grid::Location;
 
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+}  // namespace
+
 void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velocity, double dt,
                               const ShellGeometry& shells, const geometry::ShellBand* band,
-                              std::span<double> out, std::vector<std::int64_t>& invalid) const {
+                              std::span<double> out, std::vector<std::int64_t>& invalid) {
+  const std::int64_t count = m_grid.size(Location::Node);
+  if (!m_maccormack) {
+    trace(in, velocity, dt, shells, band, out, nullptr, invalid);
+    return;
+  }
+  // Selle et al. 2008: forward, then back from the result; half the round trip's error
+  // corrects the forward value, clamped to the values its stencil interpolated (no new
+  // extremum: water appears only where a visible node of the stencil held some).
+  m_range.resize(2 * count);
+  m_back.resize(count);
+  const std::size_t first_invalid = invalid.size();
+  trace(in, velocity, dt, shells, band, out, m_range.data(), invalid);
+  m_back_invalid.clear();
+  trace(out, velocity, -dt, shells, band, m_back, nullptr, m_back_invalid);
+  // No correction where either trace saw no visible node.
+  for (std::size_t k = first_invalid; k < invalid.size(); ++k) m_range[2 * invalid[k]] = kNan;
+  for (const std::int64_t node : m_back_invalid) m_range[2 * node] = kNan;
+#pragma omp parallel for schedule(static)
+  for (std::int64_t node = 0; node < count; ++node) {
+    const double lo = m_range[2 * node], hi = m_range[2 * node + 1];
+    if (std::isnan(lo)) continue;  // invalid: refilled later
+    out[node] = std::clamp(out[node] + 0.5 * (in[node] - m_back[node]), lo, hi);
+  }
+}
+
+void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& velocity, double dt,
+                             const ShellGeometry& shells, const geometry::ShellBand* band,
+                             std::span<double> out, double* range,
+                             std::vector<std::int64_t>& invalid) const {
   const std::int64_t count = m_grid.size(Location::Node);
   const std::span<const std::uint8_t> in_band =
       band && !shells.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
@@ -28,16 +65,23 @@ void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velo
       const Eigen::Vector3d x = m_grid.position(Location::Node, node);
       const Eigen::Vector3d departure =
           (x - dt * velocity.velocity_at(node)).cwiseMax(lower).cwiseMin(upper);
+      double* node_range = range ? range + 2 * node : nullptr;
       if (in_band.empty() || in_band[node] == 0) {
         const NodeStencil st = node_stencil(m_grid, departure);
-        double v = 0.0;
-        for (int c = 0; c < 8; ++c) v += st.weight(c) * in[st.corner(m_grid, c)];
+        double v = 0.0, lo = kInf, hi = -kInf;
+        for (int c = 0; c < 8; ++c) {
+          const double value = in[st.corner(m_grid, c)];
+          v += st.weight(c) * value;
+          lo = std::min(lo, value);
+          hi = std::max(hi, value);
+        }
         out[node] = v;
+        if (node_range) node_range[0] = lo, node_range[1] = hi;
         continue;
       }
       // §4.1 clipped ray, then one secondary ray per cell node (§4.4.1).
       const std::optional<double> v =
-          sample_visible(in, shells.clip(x, departure, eps_prime), shells);
+          sample_visible(in, shells.clip(x, departure, eps_prime), shells, node_range);
       if (!v) {
         out[node] = in[node];
         mine.push_back(node);
@@ -51,7 +95,8 @@ void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velo
 
 std::optional<double> LevelSetAdvector::sample_visible(std::span<const double> phi,
                                                        const Eigen::Vector3d& base,
-                                                       const ShellGeometry& shells) const {
+                                                       const ShellGeometry& shells,
+                                                       double* range) const {
   const NodeStencil st = node_stencil(m_grid, base);
   double value[8];
   unsigned visible = 0;
@@ -61,7 +106,7 @@ std::optional<double> LevelSetAdvector::sample_visible(std::span<const double> p
     if (shells.visible(base, m_grid.position(Location::Node, corner))) visible |= 1u << c;
   }
   if (visible == 0) return std::nullopt;
-  double v = 0.0;
+  double v = 0.0, lo = kInf, hi = -kInf;
   for (int c = 0; c < 8; ++c) {
     double p = value[c];
     if ((visible >> c & 1u) == 0) {
@@ -81,7 +126,10 @@ std::optional<double> LevelSetAdvector::sample_visible(std::span<const double> p
       }
     }
     v += st.weight(c) * p;
+    lo = std::min(lo, p);
+    hi = std::max(hi, p);
   }
+  if (range) range[0] = lo, range[1] = hi;
   return v;
 }
 

@@ -33,6 +33,15 @@ sdk::Schema Liquid::schema() {
       .field("extrapolation", Schema::number(5.0).min(1.0).max(19.0).unit("Δx").doc(
                                   "width of the band into which velocities are extrapolated "
                                   "across the surface (§4.4: 3–5 cells); below `band`"))
+      .field("advection",
+             Schema::string("semi_lagrangian")
+                 .one_of({"semi_lagrangian", "maccormack"})
+                 .doc("φ along the velocity's rays (§4.4.1). semi_lagrangian: the paper's "
+                      "trilinear step, which smooths φ so that curved water shrinks unless "
+                      "particles correct it (§4.4.2). maccormack: corrected by half a round "
+                      "trip's error, clamped to the stencil (Selle et al. 2008), at twice the "
+                      "cost; keeps a sloshing body's volume (README, measured figures) but "
+                      "grew a rigidly turning sphere"))
       .field("particles", ParticleLevelSet::schema())
       .field("surface_pressure",
              Schema::string("ghost_fluid")
@@ -45,7 +54,7 @@ sdk::Schema Liquid::schema() {
 Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
                const Eigen::Vector3d& up, double fps, const DomainBoundary& boundary)
     : m_level_set(grid, params.at("band").get<double>() * grid.dx()),
-      m_advector(grid),
+      m_advector(grid, params.at("advection").get<std::string>() == "maccormack"),
       m_fast_marching(grid),
       m_extrapolation(grid),
       m_particles(params.at("particles"), grid, fps) {

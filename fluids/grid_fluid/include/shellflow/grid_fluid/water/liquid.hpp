@@ -58,6 +58,8 @@ class Liquid {
   ParticleLevelSet& particles() { return m_particles; }
   const std::vector<WaterSource>& sources() const { return m_sources; }
   double initial_volume() const { return m_initial_volume; }
+  /// φ is advected by MacCormack's corrected step ("advection": "maccormack").
+  bool maccormack() const { return m_advector.maccormack(); }
 
   /// The nodes whose advected velocity the next projection can read (one byte per node),
   /// from φ^n before advect(): a face next to a liquid cell of step n+1 has its nodes
