@@ -223,17 +223,15 @@ TEST(Water, ALayerFallingOntoAShelfWithAirBeneathStaysOnIt) {
   const std::vector<sdk::ShellSurface> shells{shelf};
   const std::vector<sdk::Positions> v_eff{shelf.velocities};
   const double dx = fluid->grid().dx();
-  const double area = 1.0;
-  const double v0 = fluid->liquid()->level_set().volume();
   run_for(*fluid, 2.0, shells, v_eff);
-  // Volume: the thin-wall dam's level bound, Δx/4 (the water core issue), over the tank.
-  EXPECT_NEAR(fluid->liquid()->level_set().volume(), v0, 0.25 * dx * area);
-  // Level: 0.27 + 0.205 = 0.475, up to the film of air the level set keeps between the
-  // shelf and the first node plane above it (a node held next to the shell keeps the
-  // small |φ| it had as the layer's underside): at most one Δx.
   EXPECT_LT(max_face_speed(*fluid), 1e-6);  // at rest: the fall's splash has died out
-  EXPECT_NEAR(surface_height(*fluid, 0.5, 0.5), 0.475 + 0.5 * dx, 0.5 * dx);
-  EXPECT_NEAR(surface_height(*fluid, 0.1, 0.9), 0.475 + 0.5 * dx, 0.5 * dx);
+  // Volume, read from the level over the tank's 1 m^2: the thin-wall dam's bound, Δx/4
+  // (the water core issue), about 0.27 + 0.205 = 0.475. (The level set's Heaviside volume
+  // cannot tell here: it weighs the air's nodes under the shelf with the water's above.
+  // With the trilinear step of φ the layer kept a film of air under it and sat up to Δx
+  // high; MacCormack's step brings it down onto the shelf.)
+  EXPECT_NEAR(surface_height(*fluid, 0.5, 0.5), 0.475, 0.25 * dx);
+  EXPECT_NEAR(surface_height(*fluid, 0.1, 0.9), 0.475, 0.25 * dx);
 }
 
 /// A thin plate x = 0.5 spanning the tank (a little beyond its walls) seals it.
@@ -380,11 +378,10 @@ double collapsing_box_volume_ratio(int resolution, const char* advection, double
 TEST(LevelSetAdvection, MacCormackKeepsTheWaterOfABoxCollapsingInANarrowTank) {
   // 24 cells up (16.5 across), 0.6 s: the box falls, runs up all four walls and back.
   // The trilinear step smooths φ every step and the sheets on the walls and the sloshing
-  // body shrink (measured: -40%, and -40% in 1 s at 32 cells up; MacCormack +0.0% and
-  // +0.4%: a 3% swing in between); MacCormack's correction
-  // (Selle et al. 2008) is second order where φ is smooth. Bounds: the trilinear loss is
-  // more than 10% (the case shows the difference), MacCormack's change less than a
-  // fifth of it.
+  // body shrink (measured: -39%, and -39% in 1 s at 32 cells up; MacCormack +1.9% and
+  // -0.6%); MacCormack's correction (Selle et al. 2008) is second order where φ is smooth.
+  // Bounds: the trilinear loss is more than 10% (the case shows the difference),
+  // MacCormack's change less than a fifth of it.
   const double trilinear = collapsing_box_volume_ratio(24, "semi_lagrangian", 0.6);
   const double maccormack = collapsing_box_volume_ratio(24, "maccormack", 0.6);
   std::printf("[  figure  ] box collapsing in a narrow tank, 24 cells up, 0.6 s, level set "

@@ -12,6 +12,9 @@ using grid::Location;
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+/// |∇φ| − 1 left uncorrected at an interface node: the central differences' own error on a
+/// signed distance whose surface curves with radius 2.5Δx (see reinitialize()).
+constexpr double kGradientSlack = 0.05;
 }
 
 FastMarching::FastMarching(const grid::UniformGrid& grid) : m_grid(grid) {}
@@ -75,11 +78,19 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
       if (span > 0.0) gradient_squared += (difference / span) * (difference / span);
     }
     // |φ|/|∇φ|: the distance to the zero of φ's linearisation, no farther than the nearest
-    // crossing (a thin sheet's φ has no gradient across it).
+    // crossing (a thin sheet's φ has no gradient across it). Central differences of a
+    // signed distance whose surface curves with radius ρ err by up to 5% at ρ = 2.5Δx (8%
+    // at 2Δx, 1.3% at 5Δx), low, and more inside a convex surface than outside it: divided
+    // by every step, they pushed the surface out (a sphere turning rigidly at 50^3 grew by
+    // 29% in a revolution under MacCormack advection). So |∇φ| within 5% of 1 counts as 1
+    // and larger departures only beyond that.
     double dist = kInf;
     if (found) {
       const double gradient = std::sqrt(gradient_squared);
-      dist = gradient * nearest_crossing > std::abs(p) ? std::abs(p) / gradient : nearest_crossing;
+      const double departure = gradient - 1.0;
+      const double slack = std::copysign(std::min(std::abs(departure), kGradientSlack), departure);
+      const double corrected = gradient - slack;
+      dist = corrected * nearest_crossing > std::abs(p) ? std::abs(p) / corrected : nearest_crossing;
       dist = std::max(dist, 1e-12 * dx);
     }
     if (held) dist = std::min(dist, std::abs(p));

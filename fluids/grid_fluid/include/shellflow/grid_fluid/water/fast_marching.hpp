@@ -10,7 +10,9 @@
 //    nearest crossing along an axis (linear interpolation, φ_i / (φ_i − φ_j) Δx, towards
 //    visible neighbours only). The paper's 1 / sqrt(Σ_axes 1/d_a^2), the plane through
 //    the axis crossings, understates |φ| inside a convex surface and overstates it outside:
-//    reinitialised every step, water shrank by 0.4% a step in a 3D dam break;
+//    reinitialised every step, water shrank by 0.4% a step in a 3D dam break. A |∇φ|
+//    within 5% of 1 counts as 1: that much is the central differences' own error on a
+//    surface curving with radius 2.5Δx, and dividing by it every step grew water;
 //  - a node with a neighbour it cannot see is *held*: its distance is at most its own |φ|
 //    (as an interface node, the smaller of the two; otherwise a tentative value the march
 //    may still lower). The surface it is near may lie behind the shell's edge, where the
