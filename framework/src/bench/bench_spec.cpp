@@ -75,47 +75,64 @@ Json read_json(const fs::path& file, const std::string& what) {
   }
 }
 
-/// The keys along a pointer that the base scene lacks, for "did you mean" on the first.
+/// What is wrong with a pointer into the resolved base scene, or "". Every segment but the
+/// last must exist (an array index within range); the last may be a key the file and the
+/// defaults leave out (an optional setting such as /time/max_dt): whether the scene takes
+/// it is for its schema to say (plan_sweep reports an unknown key at the pointer).
 std::string pointer_problem(const std::string& pointer, const Json& scene) {
-  Json::json_pointer ptr;
   try {
-    ptr = Json::json_pointer(pointer);
+    Json::json_pointer ptr(pointer);
   } catch (const Json::exception&) {
     return "'" + pointer +
            "' is not a JSON pointer: write it as /key/key/index, e.g. /fluid/resolution";
   }
   if (pointer.empty()) return "the empty pointer addresses the whole scene: name one value";
-  if (scene.contains(ptr)) return "";
-  // Walk down to the first missing segment and suggest its closest sibling.
+  std::vector<std::string> parts;
+  std::stringstream s(pointer.substr(1));
+  for (std::string part; std::getline(s, part, '/');) parts.push_back(part);
+  if (!pointer.empty() && pointer.back() == '/') parts.emplace_back();
   const Json* node = &scene;
   std::string walked;
-  std::stringstream s(pointer.substr(1));
-  for (std::string part; std::getline(s, part, '/');) {
-    if (node->is_object() && node->contains(part)) {
-      node = &(*node)[part];
-      walked += "/" + part;
-      continue;
+  const auto where = [&] { return walked.empty() ? std::string("/") : walked; };
+  for (size_t i = 0; i < parts.size(); ++i) {
+    // RFC 6901 escapes.
+    std::string part;
+    for (size_t c = 0; c < parts[i].size(); ++c)
+      if (parts[i][c] == '~' && c + 1 < parts[i].size()) {
+        part += parts[i][c + 1] == '1' ? '/' : '~';
+        ++c;
+      } else {
+        part += parts[i][c];
+      }
+    const bool last = i + 1 == parts.size();
+    if (node->is_object()) {
+      if (node->contains(part)) {
+        node = &(*node)[part];
+      } else if (last) {
+        return "";
+      } else {
+        std::vector<std::string> keys;
+        for (const auto& [k, _] : node->items()) keys.push_back(k);
+        std::string list;
+        for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
+        return "the base scene has no '" + part + "' at " + where() +
+               " (even with the defaults filled in)" + runtime::did_you_mean(part, keys) +
+               "; keys there: " + list;
+      }
+    } else if (node->is_array()) {
+      const bool digits = !part.empty() && part.find_first_not_of("0123456789") == std::string::npos;
+      if (!digits || std::stoull(part) >= node->size())
+        return "the base scene has no '" + part + "' at " + where() + ": it is an array of " +
+               std::to_string(node->size()) + " (index it by 0.." +
+               std::to_string(node->size() - 1) + ")";
+      node = &(*node)[std::stoull(part)];
+    } else {
+      return "the base scene's " + where() + " is " + runtime::describe_value(*node) +
+             ", which has no '" + part + "'";
     }
-    std::vector<std::string> keys;
-    if (node->is_object())
-      for (const auto& [k, _] : node->items()) keys.push_back(k);
-    std::string hint;
-    if (node->is_array())
-      hint = " (" + (walked.empty() ? std::string("/") : walked) + " is an array of " +
-             std::to_string(node->size()) + ": index it by 0.." + std::to_string(node->size() - 1) +
-             ")";
-    else if (!keys.empty())
-      hint = runtime::did_you_mean(part, keys) + "; keys at " +
-             (walked.empty() ? std::string("/") : walked) + ": " + [&] {
-               std::string list;
-               for (const auto& k : keys) list += (list.empty() ? "" : ", ") + k;
-               return list;
-             }();
-    return "the base scene has no value at " + pointer + " (no '" + part + "' at " +
-           (walked.empty() ? std::string("/") : walked) + ", even with the defaults filled in)" +
-           hint;
+    walked += "/" + parts[i];
   }
-  return "the base scene has no value at " + pointer;
+  return "";
 }
 
 }  // namespace

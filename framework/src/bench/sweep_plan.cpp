@@ -1,5 +1,6 @@
 #include "shellflow/bench/sweep_plan.hpp"
 
+#include <algorithm>
 #include <cstdio>
 
 #include "shellflow/runtime/scene.hpp"
@@ -25,6 +26,11 @@ std::vector<SweepPoint> plan_sweep(const BenchSpec& spec) {
   std::vector<size_t> digit(spec.axes.size(), 0);
   const int width = count >= 1000 ? static_cast<int>(std::to_string(count).size()) : 3;
   for (size_t n = 0; n < count; ++n) {
+    // The n-th combination, the last axis fastest.
+    for (size_t a = spec.axes.size(), rest = n; a-- > 0;) {
+      digit[a] = rest % spec.axes[a].values.size();
+      rest /= spec.axes[a].values.size();
+    }
     SweepPoint point;
     point.index = static_cast<int>(n + 1);
     char id[32];
@@ -33,8 +39,8 @@ std::vector<SweepPoint> plan_sweep(const BenchSpec& spec) {
     Json doc = spec.base_scene;
     for (size_t a = 0; a < spec.axes.size(); ++a) {
       point.values.push_back(spec.axes[a].values[digit[a]]);
-      // operator[] creates the keys a default left out of the file (checked to exist in
-      // the resolved scene by load_bench_spec).
+      // operator[] creates the keys the file leaves to defaults (load_bench_spec checked
+      // that the resolved scene has all but the last).
       doc[Json::json_pointer(spec.axes[a].pointer)] = point.values.back();
     }
     if (!spec.keep_outputs) doc["outputs"] = Json::array();
@@ -51,6 +57,23 @@ std::vector<SweepPoint> plan_sweep(const BenchSpec& spec) {
                       .lexically_normal()
                       .string();
     } catch (const runtime::SceneValidationError& e) {
+      // A key the scene's schema does not know is the pointer's fault, not the value's:
+      // report it once, at the axis's pointer.
+      bool pointer_fault = false;
+      for (const auto& issue : e.issues())
+        for (size_t a = 0; a < spec.axes.size(); ++a)
+          if (issue.json_path == spec.axes[a].pointer &&
+              issue.message.rfind("unknown key", 0) == 0) {
+            pointer_fault = true;
+            const std::string path = "/sweep/" + std::to_string(a) + "/pointer";
+            const bool reported = std::any_of(issues.begin(), issues.end(), [&](const auto& i) {
+              return i.json_path == path;
+            });
+            if (!reported)
+              issues.push_back({path, "the base scene cannot take " + spec.axes[a].pointer +
+                                          ": " + issue.message});
+          }
+      if (pointer_fault) continue;
       std::string detail;
       for (const auto& issue : e.issues())
         detail += "\n    scene " + (issue.json_path.empty() ? "/" : issue.json_path) + ": " +
@@ -64,11 +87,6 @@ std::vector<SweepPoint> plan_sweep(const BenchSpec& spec) {
       issues.push_back({"/sweep", "with " + describe_point(spec, point) + ": " + e.detail()});
     }
     points.push_back(std::move(point));
-    // Next combination: the last axis fastest.
-    for (size_t a = spec.axes.size(); a-- > 0;) {
-      if (++digit[a] < spec.axes[a].values.size()) break;
-      digit[a] = 0;
-    }
   }
   if (!issues.empty()) throw runtime::SceneValidationError(spec.file.string(), issues);
   return points;
