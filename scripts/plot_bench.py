@@ -6,8 +6,8 @@
       cheaper and more accurate) dashed, the observed order p (error ~ h^p, along the axis
       whose spacing the spec gives) in the legend;
   BENCH_DIR/plots/stability.png  for a two-axis sweep: each run's outcome (completed, guard
-      stopped, non-finite, crashed, failed) coloured, with the solids' kinetic energy at the
-      end over the start (or the first error) written in.
+      stopped, non-finite, crashed, failed) coloured, with the kinetic energy (solids and a
+      smoke fluid) at the end over the start (or the first error) written in.
 
 Usage: plot_bench.py BENCH_DIR. Needs matplotlib (Debian: python3-matplotlib).
 """
@@ -124,7 +124,8 @@ def stability_map(bench, rows, out_dir):
         return []
     xs = [json.dumps(v) if not isinstance(v, str) else v for v in axes[1]["values"]]
     ys = [json.dumps(v) if not isinstance(v, str) else v for v in axes[0]["values"]]
-    fig, ax = plt.subplots(figsize=(1.2 + 0.8 * len(xs), 1.2 + 0.5 * len(ys)), dpi=100)
+    fig, ax = plt.subplots(figsize=(max(3.0, 1.4 + 0.8 * len(xs)) + 1.6, 1.6 + 0.45 * len(ys)),
+                           dpi=100)
     seen = set()
     for r in rows:
         x = xs.index(r[axes[1]["label"]]) if r[axes[1]["label"]] in xs else None
@@ -148,7 +149,7 @@ def stability_map(bench, rows, out_dir):
     ax.set_yticklabels(ys, fontsize=7)
     ax.set_xlabel(axes[1]["pointer"])
     ax.set_ylabel(axes[0]["pointer"])
-    ax.set_title(f"{bench['bench']}: outcome (KE end/start written in)", fontsize=9)
+    ax.set_title(f"{bench['bench']}\noutcome; kinetic energy end/start", fontsize=9)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     fig.tight_layout()
     path = os.path.join(out_dir, "stability.png")

@@ -576,6 +576,18 @@ void GridFluid::report(sdk::Metrics& out) const {
     }
   } else {
     out.set("smoke_mass", smoke_mass());
+    // ½ ρ Σ u² Δx³ over the MAC faces: with the solids' energies, what a stability sweep
+    // (shellflow bench's energy_ratio) watches. Smoke only: a water scene's air faces hold
+    // extrapolated velocities that carry no energy.
+    double sum = 0.0;
+    for (int a = 0; a < 3; ++a) {
+      const auto& u = m_mac.face_velocity(a);
+      const std::int64_t n = static_cast<std::int64_t>(u.size());
+#pragma omp parallel for reduction(+ : sum)
+      for (std::int64_t f = 0; f < n; ++f) sum += u[f] * u[f];
+    }
+    const double dx = m_mac.dx();
+    out.set("kinetic_energy", 0.5 * m_density * sum * dx * dx * dx);
   }
   out.set("t_pressure", m_t_pressure);
   out.set("max_speed", m_mac.max_face_speed());

@@ -130,13 +130,15 @@ void write_results_csv(const std::filesystem::path& file, const BenchSpec& spec,
 }
 
 void write_results_markdown(const std::filesystem::path& file, const BenchSpec& spec,
-                            const std::vector<RunRecord>& records) {
+                            const std::vector<RunRecord>& records, const std::string& conditions) {
   sdk::write_file_atomically(file, [&](std::ostream& out) {
     out << "# Bench " << spec.name << "\n\n";
     if (!spec.description.empty()) out << spec.description << "\n\n";
     out << "Base scene `" << spec.scene_file.filename().string() << "`";
     if (spec.frames) out << ", " << *spec.frames << " frames per run";
-    out << ". Errors:";
+    out << ".";
+    if (!conditions.empty()) out << " " << conditions;
+    if (!spec.measures.empty()) out << " Errors:";
     for (const auto& m : spec.measures) {
       const ErrorMeasure* d = find_error_measure(m.measure);
       out << "\n- `" << m.label << "` (" << m.measure << ", " << d->unit << "): " << d->doc
@@ -147,7 +149,7 @@ void write_results_markdown(const std::filesystem::path& file, const BenchSpec& 
     out << " status | wall [s] | steps | s/step | peak [MB] |";
     bool energy = false;
     for (const auto& r : records) energy = energy || !std::isnan(r.energy_ratio);
-    if (energy) out << " KE end/start |";
+    if (energy) out << " energy end/start |";
     for (const auto& m : spec.measures) out << " " << markdown_cell(m.label) << " |";
     out << "\n|";
     const size_t columns = spec.axes.size() + 5 + (energy ? 1 : 0) + spec.measures.size();

@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <string>
 
@@ -37,6 +38,13 @@ Json spec_echo(const BenchSpec& spec, const std::vector<SweepPoint>& points,
   j["description"] = spec.description;
   if (spec.frames) j["frames"] = *spec.frames;
   j["jobs"] = options.jobs;
+  // What the timings depend on besides the code: threads per run and how busy the machine
+  // was when the bench started.
+  const char* threads = std::getenv("OMP_NUM_THREADS");
+  j["omp_num_threads"] = threads ? threads : "unset (all cores)";
+  std::ifstream loadavg("/proc/loadavg");
+  double load = 0.0;
+  if (loadavg >> load) j["load_average_at_start"] = load;
   j["axes"] = Json::array();
   for (const auto& a : spec.axes)
     j["axes"].push_back({{"pointer", a.pointer},
@@ -156,7 +164,13 @@ std::vector<RunRecord> run_bench(const BenchSpec& spec, const BenchOptions& opti
 
   const auto kept = finished_records();
   write_results_csv(options.out / "results.csv", spec, kept);
-  write_results_markdown(options.out / "results.md", spec, kept);
+  char conditions[160];
+  std::snprintf(conditions, sizeof conditions,
+                "Timed with OMP_NUM_THREADS=%s, %d run%s at a time, load average %.1f at the "
+                "start.",
+                echo["omp_num_threads"].get<std::string>().c_str(), options.jobs,
+                options.jobs == 1 ? "" : "s", echo.value("load_average_at_start", 0.0));
+  write_results_markdown(options.out / "results.md", spec, kept, conditions);
   echo["status"] = kept.size() == points.size() ? "completed" : "interrupted";
   echo["runs_finished"] = kept.size();
   write_json(options.out / "bench.json", echo);

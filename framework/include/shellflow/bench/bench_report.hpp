@@ -36,8 +36,10 @@ std::vector<ConvergenceFit> convergence_fits(const BenchSpec& spec,
 void write_results_csv(const std::filesystem::path& file, const BenchSpec& spec,
                        const std::vector<RunRecord>& records);
 
-/// results.md: the table, then the convergence fits.
+/// results.md: the table, then the convergence fits. `conditions`: what the timings were
+/// taken under (threads, load), one sentence, or "".
 void write_results_markdown(const std::filesystem::path& file, const BenchSpec& spec,
-                            const std::vector<RunRecord>& records);
+                            const std::vector<RunRecord>& records,
+                            const std::string& conditions = "");
 
 }  // namespace shellflow::bench

@@ -31,8 +31,8 @@ struct RunRecord {
   long long steps = 0;
   double sim_time = 0.0;     ///< simulated time reached [s]
   double peak_mb = 0.0;
-  /// Solids' kinetic energy at the last step over the first (sum of the *.kinetic_energy
-  /// columns); NaN without any.
+  /// Kinetic energy at the last step over the first, summed over the *.kinetic_energy
+  /// columns (the solids', and a smoke fluid's); NaN without any.
   double energy_ratio = 0.0;
   std::vector<double> errors;  ///< one per spec measure; NaN where it could not be taken
   double seconds_per_step() const { return steps > 0 ? wall_seconds / steps : 0.0; }
