@@ -6,8 +6,9 @@
       cheaper and more accurate) dashed, the observed order p (error ~ h^p, along the axis
       whose spacing the spec gives) in the legend;
   BENCH_DIR/plots/stability.png  for a two-axis sweep: each run's outcome (completed, guard
-      stopped, non-finite, crashed, failed) coloured, with the kinetic energy (solids and a
-      smoke fluid) at the end over the start (or the first error) written in.
+      stopped, non-finite, crashed, failed) coloured, with energy_change (the energy gained
+      over the run over its largest kinetic energy; the first error without energies)
+      written in.
 
 Usage: plot_bench.py BENCH_DIR. Needs matplotlib (Debian: python3-matplotlib).
 """
@@ -72,7 +73,7 @@ def error_plots(bench, rows, out_dir):
         label = measure["label"]
         groups = {}
         for r in rows:
-            e, t = number(r.get(label)), number(r["wall_s"])
+            e, t = number(r.get(label)), number(r["run_s"])
             if r["status"] != "completed" or not (e > 0) or not (t > 0):
                 continue
             key = ", ".join(f"{a['label']} = {r[a['label']]}" for i, a in enumerate(axes)
@@ -83,7 +84,7 @@ def error_plots(bench, rows, out_dir):
         fig, ax = plt.subplots(figsize=(5.2, 3.8), dpi=100)
         everything = []
         for key, runs in sorted(groups.items()):
-            t = [number(r["wall_s"]) for r in runs]
+            t = [number(r["run_s"]) for r in runs]
             e = [number(r[label]) for r in runs]
             everything += list(zip(t, e))
             legend = key or "runs"
@@ -105,7 +106,7 @@ def error_plots(bench, rows, out_dir):
                     label="Pareto front")
         ax.set_xscale("log")
         ax.set_yscale("log")
-        ax.set_xlabel("wall time per run [s]")
+        ax.set_xlabel("wall time of the run [s] (run.json)")
         ax.set_ylabel(f"{label} ({measure['measure']})")
         ax.set_title(f"{bench['bench']}: {label}", fontsize=10)
         ax.grid(True, which="both", lw=0.3)
@@ -136,9 +137,9 @@ def stability_map(bench, rows, out_dir):
         ax.add_patch(plt.Rectangle((x - 0.5, y - 0.5), 1, 1, color=colour,
                                    label=r["status"] if r["status"] not in seen else None))
         seen.add(r["status"])
-        energy = number(r.get("energy_ratio"))
+        energy = number(r.get("energy_change"))
         first = number(r.get(bench["measures"][0]["label"])) if bench["measures"] else float("nan")
-        text = f"{energy:.2g}" if math.isfinite(energy) else (
+        text = f"{energy:+.2f}" if math.isfinite(energy) else (
             f"{first:.1e}" if math.isfinite(first) else "")
         ax.text(x, y, text, ha="center", va="center", fontsize=7)
     ax.set_xlim(-0.5, len(xs) - 0.5)
@@ -149,7 +150,8 @@ def stability_map(bench, rows, out_dir):
     ax.set_yticklabels(ys, fontsize=7)
     ax.set_xlabel(axes[1]["pointer"])
     ax.set_ylabel(axes[0]["pointer"])
-    ax.set_title(f"{bench['bench']}\noutcome; kinetic energy end/start", fontsize=9)
+    ax.set_title(f"{bench['bench']}\noutcome; energy change over the largest kinetic energy",
+                 fontsize=9)
     ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.0, 1.0))
     fig.tight_layout()
     path = os.path.join(out_dir, "stability.png")

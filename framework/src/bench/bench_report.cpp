@@ -1,5 +1,6 @@
 #include "shellflow/bench/bench_report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -91,7 +92,7 @@ std::vector<ConvergenceFit> convergence_fits(const BenchSpec& spec,
         for (const RunRecord* r : runs) {
           if (r->outcome != RunOutcome::Completed) continue;
           h.push_back(spacing_of(axis, r->point.values[a]));
-          wall.push_back(r->wall_seconds);
+          wall.push_back(r->run_seconds);
           error.push_back(r->errors[m]);
         }
         ConvergenceFit fit;
@@ -101,7 +102,11 @@ std::vector<ConvergenceFit> convergence_fits(const BenchSpec& spec,
         for (size_t i = 0; i < error.size(); ++i)
           if (error[i] > 0.0 && std::isfinite(error[i])) ++fit.points;
         fit.order = log_log_slope(h, error);
-        fit.cost_slope = log_log_slope(wall, error);
+        // Only where the cost changes along the axis: a spread of timings below 1.5x is
+        // mostly noise (a loaded machine), and its slope would say nothing.
+        const auto [lo, hi] = std::minmax_element(wall.begin(), wall.end());
+        fit.cost_slope = wall.size() >= 2 && *lo > 0.0 && *hi / *lo >= 1.5 ? log_log_slope(wall, error)
+                                                                          : kNaN;
         fits.push_back(fit);
       }
   }
@@ -113,16 +118,17 @@ void write_results_csv(const std::filesystem::path& file, const BenchSpec& spec,
   sdk::write_file_atomically(file, [&](std::ostream& out) {
     out << "run";
     for (const auto& axis : spec.axes) out << ',' << csv_quoted(axis.label);
-    out << ",status,exit_code,wall_s,steps,s_per_step,peak_mb,sim_time,energy_ratio";
+    out << ",status,exit_code,wall_s,run_s,steps,s_per_step,peak_mb,sim_time,energy_change";
     for (const auto& m : spec.measures) out << ',' << csv_quoted(m.label);
     out << ",message\n";
     for (const auto& r : records) {
       out << r.point.id;
       for (const auto& v : r.point.values) out << ',' << csv_quoted(value_text(v));
       out << ',' << to_string(r.outcome) << ',' << r.exit_code << ','
-          << number(r.wall_seconds, "%.4f") << ',' << r.steps << ','
-          << number(r.seconds_per_step(), "%.6g") << ',' << number(r.peak_mb, "%.1f") << ','
-          << number(r.sim_time) << ',' << number(r.energy_ratio, "%.4g");
+          << number(r.wall_seconds, "%.4f") << ',' << number(r.run_seconds, "%.4f") << ','
+          << r.steps << ',' << number(r.seconds_per_step(), "%.6g") << ','
+          << number(r.peak_mb, "%.1f") << ',' << number(r.sim_time) << ','
+          << number(r.energy_change, "%+.4g");
       for (const double e : r.errors) out << ',' << number(e, "%.6e");
       out << ',' << csv_quoted(r.message) << '\n';
     }
@@ -146,10 +152,10 @@ void write_results_markdown(const std::filesystem::path& file, const BenchSpec& 
     }
     out << "\n\n|";
     for (const auto& axis : spec.axes) out << " " << markdown_cell(axis.pointer) << " |";
-    out << " status | wall [s] | steps | s/step | peak [MB] |";
+    out << " status | run [s] | steps | s/step | peak [MB] |";
     bool energy = false;
-    for (const auto& r : records) energy = energy || !std::isnan(r.energy_ratio);
-    if (energy) out << " energy end/start |";
+    for (const auto& r : records) energy = energy || !std::isnan(r.energy_change);
+    if (energy) out << " ΔE / max K |";
     for (const auto& m : spec.measures) out << " " << markdown_cell(m.label) << " |";
     out << "\n|";
     const size_t columns = spec.axes.size() + 5 + (energy ? 1 : 0) + spec.measures.size();
@@ -158,17 +164,18 @@ void write_results_markdown(const std::filesystem::path& file, const BenchSpec& 
     for (const auto& r : records) {
       out << "|";
       for (const auto& v : r.point.values) out << " " << markdown_cell(value_text(v)) << " |";
-      out << " " << to_string(r.outcome) << " | " << number(r.wall_seconds, "%.2f") << " | "
+      out << " " << to_string(r.outcome) << " | " << number(r.run_seconds, "%.2f") << " | "
           << r.steps << " | " << number(r.seconds_per_step(), "%.3g") << " | "
           << number(r.peak_mb, "%.0f") << " |";
-      if (energy) out << " " << number(r.energy_ratio, "%.3g") << " |";
+      if (energy) out << " " << number(r.energy_change, "%+.3g") << " |";
       for (const double e : r.errors) out << " " << number(e, "%.3g") << " |";
       out << "\n";
     }
     const auto fits = convergence_fits(spec, records);
     if (!fits.empty()) {
       out << "\nObserved order p (error ~ h^p, least squares over the completed runs) and what "
-             "a doubling of wall time buys (error × 2^s, error ~ wall^s):\n\n"
+             "a doubling of the run's wall time buys (error × 2^s, error ~ time^s; '-' where the "
+             "times spread less than 1.5x):\n\n"
              "| error | refined along | other axes | runs | order p | error × per 2× cost |\n"
              "|---|---|---|---|---|---|\n";
       for (const auto& f : fits)

@@ -149,10 +149,11 @@ std::vector<RunRecord> run_bench(const BenchSpec& spec, const BenchOptions& opti
                 return std::string(b);
               }();
           std::fprintf(options.progress,
-                       "run %zu of %zu (%s: %s): %s, %.2f s, %lld steps, %.0f MB%s  ETA %s\n",
+                       "run %zu of %zu (%s: %s): %s, %.2f s (run %.2f s), %lld steps, %.0f MB%s  "
+                       "ETA %s\n",
                        finished, points.size(), points[i].id.c_str(),
                        describe_point(spec, points[i]).c_str(), to_string(r.outcome).c_str(),
-                       r.wall_seconds, r.steps, r.peak_mb, errors.c_str(),
+                       r.wall_seconds, r.run_seconds, r.steps, r.peak_mb, errors.c_str(),
                        clock_text(eta).c_str());
           if (r.outcome != RunOutcome::Completed)
             std::fprintf(options.progress, "    %s (log: %s)\n", r.message.c_str(),

@@ -27,20 +27,28 @@ std::string last_line(const fs::path& log) {
   return last;
 }
 
-double energy_ratio(const MetricsTable& metrics) {
+bool ends_with(const std::string& text, const std::string& suffix) {
+  return text.size() > suffix.size() &&
+         text.compare(text.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+double energy_change(const MetricsTable& metrics) {
   if (metrics.rows() == 0) return kNaN;
-  double first = 0.0, last = 0.0;
+  std::vector<double> kinetic(metrics.rows(), 0.0), total(metrics.rows(), 0.0);
   bool any = false;
   for (const auto& c : metrics.columns()) {
-    const std::string suffix = ".kinetic_energy";
-    if (c.size() <= suffix.size() || c.compare(c.size() - suffix.size(), suffix.size(), suffix))
-      continue;
+    const bool is_kinetic = ends_with(c, ".kinetic_energy");
+    if (!is_kinetic && !ends_with(c, ".potential_energy")) continue;
     const auto v = metrics.column(c);
-    first += v.front();
-    last += v.back();
-    any = true;
+    for (size_t i = 0; i < v.size(); ++i) {
+      if (is_kinetic) kinetic[i] += v[i];
+      total[i] += v[i];
+    }
+    any = any || is_kinetic;
   }
-  return any && first > 0.0 ? last / first : kNaN;
+  double scale = 0.0;
+  for (const double k : kinetic) scale = std::max(scale, k);
+  return any && scale > 0.0 ? (total.back() - total.front()) / scale : kNaN;
 }
 
 }  // namespace
@@ -66,7 +74,7 @@ void record_run(const BenchSpec& spec, const ChildOutcome& child, const fs::path
   record.wall_seconds = child.wall_seconds;
   record.peak_mb = child.peak_rss_mb;
   record.errors.assign(spec.measures.size(), kNaN);
-  record.energy_ratio = kNaN;
+  record.energy_change = kNaN;
   if (child.signal != 0) {
     record.outcome = RunOutcome::Crashed;
     record.message = std::string("killed by signal ") + std::to_string(child.signal) + " (" +
@@ -87,7 +95,8 @@ void record_run(const BenchSpec& spec, const ChildOutcome& child, const fs::path
   record.sim_time = outputs.run.value("last_frame_time", 0.0);
   if (outputs.metrics.has("time") && outputs.metrics.rows() > 0)
     record.sim_time = outputs.metrics.column("time").back();
-  record.energy_ratio = energy_ratio(outputs.metrics);
+  record.energy_change = energy_change(outputs.metrics);
+  record.run_seconds = outputs.run.value("wall_seconds", 0.0);
   if (child.signal != 0) return;
   const std::string status = outputs.run.value("status", "");
   record.message = outputs.run.value("message", "");

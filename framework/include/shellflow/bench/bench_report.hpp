@@ -31,8 +31,9 @@ struct ConvergenceFit {
 std::vector<ConvergenceFit> convergence_fits(const BenchSpec& spec,
                                              const std::vector<RunRecord>& records);
 
-/// results.csv: run, each axis, status, exit_code, wall_s, steps, s_per_step, peak_mb,
-/// sim_time, energy_ratio, each measure, message.
+/// results.csv: run, each axis, status, exit_code, wall_s (the child process), run_s (the
+/// run's own, run.json), steps, s_per_step (run_s / steps), peak_mb, sim_time,
+/// energy_change, each measure, message.
 void write_results_csv(const std::filesystem::path& file, const BenchSpec& spec,
                        const std::vector<RunRecord>& records);
 

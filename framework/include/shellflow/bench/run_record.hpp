@@ -27,15 +27,20 @@ struct RunRecord {
   RunOutcome outcome = RunOutcome::Failed;
   std::string message;       ///< run.json's message, the signal, or the log's last line
   int exit_code = -1;
-  double wall_seconds = 0.0;
+  double wall_seconds = 0.0;  ///< the child process, start to end [s]
+  /// The run's own wall time (run.json: validation, set-up and the steps, without the
+  /// process start and plugin loading); what costs are compared by [s].
+  double run_seconds = 0.0;
   long long steps = 0;
   double sim_time = 0.0;     ///< simulated time reached [s]
   double peak_mb = 0.0;
-  /// Kinetic energy at the last step over the first, summed over the *.kinetic_energy
-  /// columns (the solids', and a smoke fluid's); NaN without any.
-  double energy_ratio = 0.0;
+  /// (E_end − E_first) / max over steps of K, with K the sum of the *.kinetic_energy
+  /// columns (the solids', a smoke fluid's) and E = K + the *.potential_energy columns:
+  /// below 0 when energy left (damping, dissipation), above 0 when the run made energy
+  /// (the sign of an instability); NaN without kinetic energy columns.
+  double energy_change = 0.0;
   std::vector<double> errors;  ///< one per spec measure; NaN where it could not be taken
-  double seconds_per_step() const { return steps > 0 ? wall_seconds / steps : 0.0; }
+  double seconds_per_step() const { return steps > 0 ? run_seconds / steps : 0.0; }
 };
 
 /// Fills `record` from the child's outcome and the run folder it left (run.json,
