@@ -83,7 +83,7 @@ def error_plots(bench, rows, out_dir):
             continue
         fig, ax = plt.subplots(figsize=(5.2, 3.8), dpi=100)
         everything = []
-        for key, runs in sorted(groups.items()):
+        for key, runs in groups.items():  # in run order: the sweep's own order of values
             t = [number(r["run_s"]) for r in runs]
             e = [number(r[label]) for r in runs]
             everything += list(zip(t, e))
