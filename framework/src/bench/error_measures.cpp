@@ -213,6 +213,19 @@ std::vector<ErrorMeasure> make_registry() {
                                            run.metrics.column(p["surface"]), p["depth"],
                                            p["wavelength"], gravity_of(run));
        }});
+  r.push_back(
+      {"idle_work",
+       "work the scene does not need (cost follows need): max over steps of a counter column; a "
+       "column the run does not write at all counts as no work",
+       "analytic: 0 (the run plan skips the feature)", "1",
+       Schema::object("").field(
+           "column", Schema::string().doc("the counter, e.g. smoke.band_nodes (shell band work), "
+                                          "smoke.coupling_faces, smoke.fmm_marched_nodes")),
+       [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
+       [](const RunOutputs& run, const Json& p) {
+         const std::string column = p["column"];
+         return run.metrics.has(column) ? idle_work(run.metrics.column(column)) : 0.0;
+       }});
   return r;
 }
 
@@ -240,6 +253,10 @@ double free_fall_error(const std::vector<double>& time, const std::vector<double
   const double drop = 0.5 * g * time.back() * time.back();
   if (!(drop > 0.0)) throw MeasureError("free_fall: no drop (zero gravity or no time)");
   return max_abs(error) / drop;
+}
+
+double idle_work(const std::vector<double>& counter) {
+  return counter.empty() ? 0.0 : max_abs(counter);
 }
 
 double leak_fraction(const std::vector<double>& far, const std::vector<double>& total) {

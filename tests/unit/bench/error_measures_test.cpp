@@ -60,6 +60,11 @@ TEST(ErrorMeasures, FreeFallOfBackwardEulerIsTheStepOverTheTime) {
   EXPECT_NEAR(free_fall_error(t, h, h0, 1.0, kG), 0.0, kRoundOff);
 }
 
+TEST(ErrorMeasures, IdleWorkIsTheLargestCount) {
+  EXPECT_EQ(idle_work({0.0, 0.0, 0.0}), 0.0);
+  EXPECT_EQ(idle_work({0.0, 12.0, 3.0}), 12.0);
+}
+
 TEST(ErrorMeasures, LeakFractionIsTheWorstShareBeyondTheShell) {
   EXPECT_NEAR(leak_fraction({0.0, 1e-3, 2e-3}, {1.0, 1.0, 4.0}), 1e-3, kRoundOff);
   // No smoke at all (before a source starts) is no leak.
@@ -140,6 +145,9 @@ TEST_F(HandMadeRun, FreeFallThroughTheRegistryReadsGravityFromRunJson) {
   nlohmann::json params = {{"column", "plate.height"}, {"initial_height", 1.0},
                            {"initial_velocity", 0.0}};
   EXPECT_NEAR(measure->evaluate(run, params), 1e-3 / (0.5 * kG * 0.09), kRoundOff);
+  // A counter the run never wrote (a smoke run has no level-set columns) is no work.
+  EXPECT_EQ(find_error_measure("idle_work")->evaluate(run, {{"column", "air.fmm_marched_nodes"}}),
+            0.0);
   // An empty cell (a figure not reported at that step) reads as NaN: no error to give.
   params = {{"column", "air.max_speed"}};
   EXPECT_TRUE(std::isnan(find_error_measure("still_fluid_speed")->evaluate(run, params)));

@@ -67,6 +67,12 @@ double standing_wave_period_error(const std::vector<double>& time,
                                   const std::vector<double>& surface, double depth,
                                   double wavelength, double g);
 
+/// Work a scene does not need ("cost follows need"): max over steps of a counter a plugin
+/// reports (grid_fluid's band_nodes with no shells, coupling_faces with no two-way shell,
+/// fmm_marched_nodes in smoke, ...). Known answer: 0. An empty column (never written)
+/// is no work.
+double idle_work(const std::vector<double>& counter);
+
 // --- The registry that bench specs name -------------------------------------------------
 
 struct ErrorMeasure {
