@@ -174,6 +174,14 @@ TEST_F(Bench, SmallVersionOfEverySpecRuns) {
     for (const auto& row : rows)
       EXPECT_EQ(row.at("status"), "completed") << name << " " << row.at("run") << ": "
                                                << row.at("message");
+    if (name.rfind("cost_", 0) == 0) {
+      // Cost follows need: no coupling solve without a two-way shell, no level set in smoke
+      // (counters, exactly 0).
+      for (const auto& row : rows) {
+        EXPECT_EQ(std::stod(row.at("coupling_iterations")), 0.0) << name;
+        EXPECT_EQ(std::stod(row.at("level_set_nodes")), 0.0) << name;
+      }
+    }
     if (name == "cloth_free_fall") {
       // Known answer: backward Euler's error at T over the drop is the substep over T,
       // here (1/24 s / substeps) / (6/24 s) = 1 / (6 substeps). CG to 1e-12 and %.17g
