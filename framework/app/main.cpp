@@ -1,22 +1,17 @@
 // The `shellflow` command line: run, validate, list plugins, write a new plugin, make a movie
-// or plots of a run.
+// or plots of a run, bench a sweep of runs.
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <atomic>
-#include <cerrno>
 #include <csignal>
 #include <cstdio>
-#include <cstring>
-#include <iostream>
+#include <filesystem>
 
-#include "new_solid.hpp"
 #include "bench_command.hpp"
+#include "new_solid.hpp"
 #include "preview_movie.hpp"
 #include "python_script.hpp"
 #include "shellflow/runtime/plugin_docs.hpp"
