@@ -30,7 +30,8 @@ int bench_command(const BenchArguments& args, const std::atomic<bool>* stop) {
   std::map<std::string, int> outcomes;
   for (const auto& r : records) ++outcomes[bench::to_string(r.outcome)];
   std::string tally;
-  for (const auto& [name, n] : outcomes) tally += (tally.empty() ? "" : ", ") + std::to_string(n) + " " + name;
+  for (const auto& [name, n] : outcomes)
+    tally += (tally.empty() ? "" : ", ") + std::to_string(n) + " " + name;
   spdlog::info("bench '{}': {} runs ({}) -> {}", spec.name, records.size(), tally,
                (options.out / "results.csv").string());
   if (args.plots) {

@@ -236,22 +236,25 @@ int main(int argc, char** argv) {
 
   app::BenchArguments bench_args;
   auto* bench = app.add_subcommand(
-      "bench", "sweep a scene (a bench spec's axes), run each point as its own child run, and "
-               "write run time, peak memory and errors: results.csv, results.md, plots/");
+      "bench",
+      "sweep a scene (a bench spec's axes), run each point as its own child run, and "
+      "write run time, peak memory and errors: results.csv, results.md, plots/");
   bench->add_option("spec", bench_args.spec_file, "bench spec JSON file (configs/bench/)")
       ->required();
   bench->add_option("--out", bench_args.out,
                     "bench folder (default: out/bench/<name>, out/bench/<name>-small)");
-  bench->add_option("--jobs", bench_args.jobs,
-                    "runs at once (default 1: concurrent runs share the cores and the timings "
-                    "mean less)")
+  bench
+      ->add_option("--jobs", bench_args.jobs,
+                   "runs at once (default 1: concurrent runs share the cores and the timings "
+                   "mean less)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   bench->add_flag("--small", bench_args.small,
                   "each axis's \"small\" values and the spec's \"small_frames\" (seconds)");
   bench->add_flag("--overwrite", bench_args.overwrite, "replace the bench already in the folder");
-  bench->add_flag_function("--no-plots", [&](std::int64_t) { bench_args.plots = false; },
-                  "write no PNGs (results.csv and results.md only)");
+  bench->add_flag_function(
+      "--no-plots", [&](std::int64_t) { bench_args.plots = false; },
+      "write no PNGs (results.csv and results.md only)");
 
   CLI11_PARSE(app, argc, argv);
   try {

@@ -17,9 +17,9 @@ namespace shellflow {
 namespace {
 
 namespace fs = std::filesystem;
-using ::testing::HasSubstr;
 using shellflow::testing::run_shell;
 using shellflow::testing::ShellResult;
+using ::testing::HasSubstr;
 
 /// results.csv as rows of column -> cell; a cell in double quotes may hold commas (a swept
 /// vector such as [4.8,0,0]) and "" for a quote.
@@ -114,7 +114,8 @@ TEST_F(Bench, BlowUpIsRecordedAndTheSweepCarriesOn) {
 TEST_F(Bench, NonFiniteRunIsRecordedAsSuch) {
   // The test double nan_solid turns its positions NaN at step 3 when asked to.
   write("nan.json", std::string(R"({"time": {"fps": 24, "frames": 4},
-    "plugin_path": [")") + SHELLFLOW_TEST_BAD_PLUGIN_DIR + R"(/run_doubles"],
+    "plugin_path": [")") +
+                        SHELLFLOW_TEST_BAD_PLUGIN_DIR + R"(/run_doubles"],
     "solids": [{"plugin": "nan_solid", "name": "tri"}]})");
   write("spec.json", R"({"scene": "nan.json",
     "sweep": [{"pointer": "/solids/0/nan_after_steps", "values": [3, 0]}]})");
@@ -172,8 +173,8 @@ TEST_F(Bench, SmallVersionOfEverySpecRuns) {
     const auto rows = read_results(m_dir / name / "results.csv");
     ASSERT_FALSE(rows.empty()) << name;
     for (const auto& row : rows)
-      EXPECT_EQ(row.at("status"), "completed") << name << " " << row.at("run") << ": "
-                                               << row.at("message");
+      EXPECT_EQ(row.at("status"), "completed")
+          << name << " " << row.at("run") << ": " << row.at("message");
     if (name.rfind("cost_", 0) == 0) {
       // Cost follows need: no coupling solve without a two-way shell, no level set in smoke
       // (counters, exactly 0).
@@ -189,8 +190,7 @@ TEST_F(Bench, SmallVersionOfEverySpecRuns) {
       ASSERT_EQ(rows.size(), 2u);
       for (const auto& row : rows) {
         const double substeps = std::stod(row.at("substeps"));
-        EXPECT_NEAR(std::stod(row.at("free_fall")), 1.0 / (6.0 * substeps),
-                    1e-6 / (6.0 * substeps))
+        EXPECT_NEAR(std::stod(row.at("free_fall")), 1.0 / (6.0 * substeps), 1e-6 / (6.0 * substeps))
             << "substeps " << substeps;
       }
       EXPECT_THAT(read(m_dir / name / "results.md"), HasSubstr("| free_fall | substeps |"));

@@ -50,8 +50,9 @@ FluidProbes::FluidProbes(const nlohmann::json& probes, const std::string& path) 
     probe.name = p.at("name").get<std::string>();
     const std::string here = path + "/" + std::to_string(i);
     if (probe.name.empty() || probe.name.find_first_of("., ") != std::string::npos)
-      throw ConfigError(here + "/name", "a probe name is a column prefix: non-empty, without "
-                                        "'.', ',' or spaces");
+      throw ConfigError(here + "/name",
+                        "a probe name is a column prefix: non-empty, without "
+                        "'.', ',' or spaces");
     for (const auto& other : m_probes)
       if (other.name == probe.name)
         throw ConfigError(here + "/name", "the probe name '" + probe.name + "' is used twice");

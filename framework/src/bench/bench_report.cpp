@@ -25,7 +25,9 @@ std::string number(double x, const char* format = "%.6g") {
 }
 
 /// A swept value as a cell: strings without their quotes.
-std::string value_text(const Json& v) { return v.is_string() ? v.get<std::string>() : v.dump(); }
+std::string value_text(const Json& v) {
+  return v.is_string() ? v.get<std::string>() : v.dump();
+}
 
 std::string csv_quoted(const std::string& text) {
   if (text.find_first_of(",\"\n") == std::string::npos) return text;
@@ -105,8 +107,8 @@ std::vector<ConvergenceFit> convergence_fits(const BenchSpec& spec,
         // Only where the cost changes along the axis: a spread of timings below 1.5x is
         // mostly noise (a loaded machine), and its slope would say nothing.
         const auto [lo, hi] = std::minmax_element(wall.begin(), wall.end());
-        fit.cost_slope = wall.size() >= 2 && *lo > 0.0 && *hi / *lo >= 1.5 ? log_log_slope(wall, error)
-                                                                          : kNaN;
+        fit.cost_slope =
+            wall.size() >= 2 && *lo > 0.0 && *hi / *lo >= 1.5 ? log_log_slope(wall, error) : kNaN;
         fits.push_back(fit);
       }
   }

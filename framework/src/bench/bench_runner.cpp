@@ -105,8 +105,13 @@ std::vector<RunRecord> run_bench(const BenchSpec& spec, const BenchOptions& opti
     const fs::path scene_file = options.out / "scenes" / (p.id + ".json");
     write_json(scene_file, p.scene);
     ChildCommand c;
-    c.argv = {options.executable.string(), "run", scene_file.string(), "--out",
-              (options.out / "runs" / p.id).string(), "--checkpoint-every", "0"};
+    c.argv = {options.executable.string(),
+              "run",
+              scene_file.string(),
+              "--out",
+              (options.out / "runs" / p.id).string(),
+              "--checkpoint-every",
+              "0"};
     if (spec.frames) {
       c.argv.push_back("--frames");
       c.argv.push_back(std::to_string(*spec.frames));
@@ -129,8 +134,7 @@ std::vector<RunRecord> run_bench(const BenchSpec& spec, const BenchOptions& opti
   run_child_processes(
       commands, options.jobs, nullptr,
       [&](size_t i, const ChildOutcome& outcome) {
-        record_run(spec, outcome, options.out / "runs" / points[i].id, commands[i].log,
-                   records[i]);
+        record_run(spec, outcome, options.out / "runs" / points[i].id, commands[i].log, records[i]);
         done[i] = true;
         ++finished;
         const auto kept = finished_records();

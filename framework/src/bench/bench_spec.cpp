@@ -13,12 +13,14 @@ namespace shellflow::bench {
 
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
-using sdk::Schema;
 using runtime::pointer_append;
+using sdk::Schema;
 
 namespace {
 
-Schema any_value() { return Schema::from_json({{"kind", "any"}}); }
+Schema any_value() {
+  return Schema::from_json({{"kind", "any"}});
+}
 
 Schema axis_schema() {
   return Schema::object("one axis of the sweep")
@@ -120,7 +122,8 @@ std::string pointer_problem(const std::string& pointer, const Json& scene) {
                "; keys there: " + list;
       }
     } else if (node->is_array()) {
-      const bool digits = !part.empty() && part.find_first_not_of("0123456789") == std::string::npos;
+      const bool digits =
+          !part.empty() && part.find_first_not_of("0123456789") == std::string::npos;
       if (!digits || std::stoull(part) >= node->size())
         return "the base scene has no '" + part + "' at " + where() + ": it is an array of " +
                std::to_string(node->size()) + " (index it by 0.." +
@@ -221,10 +224,10 @@ BenchSpec load_bench_spec(const fs::path& file_in, bool small,
     if (axis.spacing != Spacing::None)
       for (size_t k = 0; k < values.size(); ++k)
         if (!values[k].is_number() || values[k].get<double>() <= 0.0)
-          validator.add_issue(
-              pointer_append(axis.values_path, k),
-              "a refinement axis (\"spacing\": \"" + spacing +
-                  "\") takes positive numbers, found " + runtime::describe_value(values[k]));
+          validator.add_issue(pointer_append(axis.values_path, k),
+                              "a refinement axis (\"spacing\": \"" + spacing +
+                                  "\") takes positive numbers, found " +
+                                  runtime::describe_value(values[k]));
     axis.label = a.contains("label") ? a["label"].get<std::string>() : default_label(axis.pointer);
     for (const auto& other : spec.axes)
       if (other.pointer == axis.pointer)
@@ -244,14 +247,13 @@ BenchSpec load_bench_spec(const fs::path& file_in, bool small,
     params.erase("measure");
     params.erase("label");
     const ErrorMeasure* definition = find_error_measure(m.measure);
-    if (const std::string problem = definition->bind(params, spec.resolved_scene);
-        !problem.empty())
+    if (const std::string problem = definition->bind(params, spec.resolved_scene); !problem.empty())
       validator.add_issue(path, problem);
     m.params = params;
     if (std::find(labels.begin(), labels.end(), m.label) != labels.end())
-      validator.add_issue(pointer_append(path, "label"),
-                          "the column '" + m.label +
-                              "' is already used by an axis or a measure: give a \"label\"");
+      validator.add_issue(
+          pointer_append(path, "label"),
+          "the column '" + m.label + "' is already used by an axis or a measure: give a \"label\"");
     labels.push_back(m.label);
     spec.measures.push_back(std::move(m));
   }

@@ -25,8 +25,7 @@ pid_t start_child(const ChildCommand& command) {
   for (auto& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   const int log = ::open(command.log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (log < 0)
-    throw IoError("cannot create " + command.log.string() + ": " + std::strerror(errno));
+  if (log < 0) throw IoError("cannot create " + command.log.string() + ": " + std::strerror(errno));
   std::fflush(stdout);
   std::fflush(stderr);
   const pid_t pid = ::fork();

@@ -75,8 +75,7 @@ std::function<std::string(Json&, const Json&)> bind_fluid_column(const std::stri
              "' column, but the base scene has no \"fluid\"";
     const std::string fluid = scene["fluid"].value("name", "");
     if (params.contains("fluid") && params["fluid"] != fluid)
-      return "\"fluid\": the scene's fluid is named '" + fluid + "', not " +
-             params["fluid"].dump();
+      return "\"fluid\": the scene's fluid is named '" + fluid + "', not " + params["fluid"].dump();
     params["column"] = fluid + "." + key;
     return "";
   };
@@ -98,18 +97,15 @@ std::vector<ErrorMeasure> make_registry() {
   r.push_back({"still_fluid_speed",
                "largest face speed of a fluid that should stay still (max over steps of "
                "<fluid>.max_speed); 0 for still water under gravity or still air",
-               "analytic: 0", "m/s",
-               Schema::object("").field("fluid", fluid_param()),
-               bind_fluid_column("max_speed"),
-               [](const RunOutputs& run, const Json& p) {
+               "analytic: 0", "m/s", Schema::object("").field("fluid", fluid_param()),
+               bind_fluid_column("max_speed"), [](const RunOutputs& run, const Json& p) {
                  return still_fluid_speed(run.metrics.column(p["column"]));
                }});
   r.push_back({"max_divergence",
                "largest relative divergence after the projection (max over steps of "
                "<fluid>.max_divergence); 0 for an exact projection",
                "analytic: 0", "1", Schema::object("").field("fluid", fluid_param()),
-               bind_fluid_column("max_divergence"),
-               [](const RunOutputs& run, const Json& p) {
+               bind_fluid_column("max_divergence"), [](const RunOutputs& run, const Json& p) {
                  return max_relative_divergence(run.metrics.column(p["column"]));
                }});
   r.push_back({"water_volume_drift",
@@ -143,29 +139,27 @@ std::vector<ErrorMeasure> make_registry() {
          return free_fall_error(run.metrics.column("time"), run.metrics.column(p["column"]),
                                 p["initial_height"], p["initial_velocity"], gravity_of(run));
        }});
-  r.push_back({"leak_fraction",
-               "largest share of the smoke found where it can never go (a region sealed off by "
-               "a shell): max over steps of far / total",
-               "analytic: 0", "1",
-               Schema::object("")
-                   .field("far", Schema::string().doc(
-                                     "the column of the smoke beyond the shell, e.g. a "
-                                     "grid_fluid probe's smoke.far.smoke_mass"))
-                   .field("total", Schema::string().optional().doc(
-                                       "the column of all smoke (default: <fluid>.smoke_mass)")),
-               [](Json& params, const Json& scene) -> std::string {
-                 if (!params.contains("total")) {
-                   if (!scene.contains("fluid"))
-                     return "the base scene has no \"fluid\": give \"total\"";
-                   params["total"] = scene["fluid"].value("name", "") + ".smoke_mass";
-                 }
-                 if (auto problem = check_column(params, "far", scene); !problem.empty())
-                   return problem;
-                 return check_column(params, "total", scene);
-               },
-               [](const RunOutputs& run, const Json& p) {
-                 return leak_fraction(run.metrics.column(p["far"]), run.metrics.column(p["total"]));
-               }});
+  r.push_back(
+      {"leak_fraction",
+       "largest share of the smoke found where it can never go (a region sealed off by "
+       "a shell): max over steps of far / total",
+       "analytic: 0", "1",
+       Schema::object("")
+           .field("far", Schema::string().doc("the column of the smoke beyond the shell, e.g. a "
+                                              "grid_fluid probe's smoke.far.smoke_mass"))
+           .field("total", Schema::string().optional().doc(
+                               "the column of all smoke (default: <fluid>.smoke_mass)")),
+       [](Json& params, const Json& scene) -> std::string {
+         if (!params.contains("total")) {
+           if (!scene.contains("fluid")) return "the base scene has no \"fluid\": give \"total\"";
+           params["total"] = scene["fluid"].value("name", "") + ".smoke_mass";
+         }
+         if (auto problem = check_column(params, "far", scene); !problem.empty()) return problem;
+         return check_column(params, "total", scene);
+       },
+       [](const RunOutputs& run, const Json& p) {
+         return leak_fraction(run.metrics.column(p["far"]), run.metrics.column(p["total"]));
+       }});
   r.push_back(
       {"dam_break_front",
        "the front of a collapsing water column against Martin and Moyce (1952): max over their "
@@ -177,8 +171,9 @@ std::vector<ErrorMeasure> make_registry() {
                                "grid_fluid probe's <fluid>.<probe>.extent"))
            .field("width", Schema::number().min(0.0, false).unit("m").doc("a: the column's width"))
            .field("data", Schema::file().doc("T,Z data, relative to the spec"))
-           .field("from_T", Schema::number(1.5).doc("first T compared (their gate took time to "
-                                                    "lift: earlier fronts lag any instant release)"))
+           .field("from_T",
+                  Schema::number(1.5).doc("first T compared (their gate took time to "
+                                          "lift: earlier fronts lag any instant release)"))
            .field("to_T", Schema::number(3.0).doc("last T compared")),
        [](Json& params, const Json& scene) -> std::string {
          if (params["from_T"].get<double>() >= params["to_T"].get<double>())
@@ -198,7 +193,8 @@ std::vector<ErrorMeasure> make_registry() {
        }});
   r.push_back(
       {"standing_wave_period",
-       "a standing wave's period against linear theory ω² = g k tanh(k h), k = 2π/λ: |P − P_theory| "
+       "a standing wave's period against linear theory ω² = g k tanh(k h), k = 2π/λ: |P − "
+       "P_theory| "
        "/ P_theory with P from the zero crossings of surface − depth",
        "analytic: linear theory (Lamb 1932, §228)", "1",
        Schema::object("")
@@ -231,7 +227,9 @@ std::vector<ErrorMeasure> make_registry() {
 
 }  // namespace
 
-double still_fluid_speed(const std::vector<double>& speed) { return max_abs(speed); }
+double still_fluid_speed(const std::vector<double>& speed) {
+  return max_abs(speed);
+}
 
 double max_relative_divergence(const std::vector<double>& divergence) {
   return max_abs(divergence);

@@ -105,7 +105,7 @@ void record_run(const BenchSpec& spec, const ChildOutcome& child, const fs::path
   } else if (status == "numerical_failure") {
     // run_driver's two stops: the speed guard ("unstable at step ...") and a non-finite value.
     record.outcome = record.message.rfind("non-finite", 0) == 0 ? RunOutcome::NonFinite
-                                                                 : RunOutcome::GuardStopped;
+                                                                : RunOutcome::GuardStopped;
   } else {
     record.outcome = RunOutcome::Failed;
     if (record.message.empty()) record.message = "run.json status '" + status + "'";

@@ -66,12 +66,11 @@ std::vector<SweepPoint> plan_sweep(const BenchSpec& spec) {
               issue.message.rfind("unknown key", 0) == 0) {
             pointer_fault = true;
             const std::string path = "/sweep/" + std::to_string(a) + "/pointer";
-            const bool reported = std::any_of(issues.begin(), issues.end(), [&](const auto& i) {
-              return i.json_path == path;
-            });
+            const bool reported = std::any_of(issues.begin(), issues.end(),
+                                              [&](const auto& i) { return i.json_path == path; });
             if (!reported)
-              issues.push_back({path, "the base scene cannot take " + spec.axes[a].pointer +
-                                          ": " + issue.message});
+              issues.push_back({path, "the base scene cannot take " + spec.axes[a].pointer + ": " +
+                                          issue.message});
           }
       if (pointer_fault) continue;
       std::string detail;

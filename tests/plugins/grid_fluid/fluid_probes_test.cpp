@@ -31,8 +31,14 @@ TEST(FluidProbes, PoolSurfaceHeightAndVolume) {
       {{"resolution", 16},
        {"water", {{"initial", {{{"type", "pool"}, {"height", 0.41}}}}}},
        {"probes",
-        {{{"type", "water_extent"}, {"name", "level"}, {"from", {0.5, 0, 0.5}}, {"to", {0.5, 1, 0.5}}},
-         {{"type", "water_extent"}, {"name", "air"}, {"from", {0.5, 0.7, 0.5}}, {"to", {0.5, 0.9, 0.5}}},
+        {{{"type", "water_extent"},
+          {"name", "level"},
+          {"from", {0.5, 0, 0.5}},
+          {"to", {0.5, 1, 0.5}}},
+         {{"type", "water_extent"},
+          {"name", "air"},
+          {"from", {0.5, 0.7, 0.5}},
+          {"to", {0.5, 0.9, 0.5}}},
          {{"type", "box"}, {"name", "all"}, {"min", {0, 0, 0}}, {"max", {1, 1, 1}}},
          {{"type", "box"}, {"name", "top"}, {"min", {0, 0.6, 0}}, {"max", {1, 1, 1}}}}}});
   EXPECT_NEAR(reported(*fluid, "level.extent"), 0.41, kRoundOff);
@@ -51,7 +57,9 @@ TEST(FluidProbes, DamBreakFrontAlongTheFloor) {
        {"water",
         {{"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.25, 0.5, 1}}}}}}},
        {"probes",
-        {{{"type", "water_extent"}, {"name", "front"}, {"from", {0, 0, 0.03125}},
+        {{{"type", "water_extent"},
+          {"name", "front"},
+          {"from", {0, 0, 0.03125}},
           {"to", {1, 0, 0.03125}}}}}});
   EXPECT_NEAR(reported(*fluid, "front.extent"), 0.25, kRoundOff);
 }
@@ -59,7 +67,8 @@ TEST(FluidProbes, DamBreakFrontAlongTheFloor) {
 TEST(FluidProbes, SmokeMassInABox) {
   auto fluid = test::make_fluid(
       {{"resolution", 16},
-       {"probes", {{{"type", "box"}, {"name", "left"}, {"min", {0, 0, 0}}, {"max", {0.5, 1, 1}}}}}});
+       {"probes",
+        {{{"type", "box"}, {"name", "left"}, {"min", {0, 0, 0}}, {"max", {0.5, 1, 1}}}}}});
   for (auto& d : fluid->nodes().density()) d = 1.0;
   // Nodes with x <= 0.5: 9 x 17 x 17 of them, each Δx³ = 1/4096 (exact in binary).
   EXPECT_EQ(reported(*fluid, "left.smoke_mass"), 9.0 * 17.0 * 17.0 / 4096.0);

@@ -66,8 +66,9 @@ TEST_F(BenchSpecFiles, BadPointerIsRejectedAtItsPathWithASuggestion) {
     "sweep": [{"pointer": "/solids/0/surface_densty", "values": [1, 2]}]})",
                "/sweep/0/pointer", "did you mean 'surface_density'");
   // Past the end of an array.
-  expect_issue(R"({"scene": "drop.json", "sweep": [{"pointer": "/solids/3/nodes", "values": [3]}]})",
-               "/sweep/0/pointer", "an array of 1");
+  expect_issue(
+      R"({"scene": "drop.json", "sweep": [{"pointer": "/solids/3/nodes", "values": [3]}]})",
+      "/sweep/0/pointer", "an array of 1");
   // Not a pointer at all.
   expect_issue(R"({"scene": "drop.json", "sweep": [{"pointer": "time/fps", "values": [3]}]})",
                "/sweep/0/pointer", "not a JSON pointer");

@@ -72,7 +72,8 @@ TEST(ErrorMeasures, LeakFractionIsTheWorstShareBeyondTheShell) {
 }
 
 TEST(ErrorMeasures, DamBreakFrontTenPercentAheadOfMartinAndMoyce) {
-  const auto data = read_front_data(fs::path(SHELLFLOW_SOURCE_DIR) / "tests/data/martin_moyce_1952.csv");
+  const auto data =
+      read_front_data(fs::path(SHELLFLOW_SOURCE_DIR) / "tests/data/martin_moyce_1952.csv");
   ASSERT_GE(data.size(), 10u);
   // A front exactly 10% ahead of every data point (samples at their own T, so the linear
   // interpolation is exact there): the error is 0.1.
@@ -116,10 +117,9 @@ class HandMadeRun : public ::testing::Test {
  protected:
   void SetUp() override {
     m_dir = fs::temp_directory_path() /
-            ("shellflow_measures_" + std::string(::testing::UnitTest::GetInstance()
-                                                     ->current_test_info()
-                                                     ->name()) +
-             "_" + std::to_string(::getpid()));
+            ("shellflow_measures_" +
+             std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+             std::to_string(::getpid()));
     fs::create_directories(m_dir);
     std::ofstream(m_dir / "run.json") << R"({"status": "completed", "steps": 3,
       "config": {"gravity": [0, -9.81, 0], "fluid": {"name": "air"}}})";
@@ -135,15 +135,15 @@ TEST_F(HandMadeRun, FreeFallThroughTheRegistryReadsGravityFromRunJson) {
   csv << "step,frame,time,dt,plate.height,air.max_speed\n";
   for (int n = 1; n <= 3; ++n) {
     const double t = 0.1 * n;
-    csv << n << ",0," << t << ",0.1," << (1.0 - 0.5 * kG * t * t + (n == 3 ? 1e-3 : 0.0))
-        << "," << (n == 2 ? "" : "1e-7") << "\n";
+    csv << n << ",0," << t << ",0.1," << (1.0 - 0.5 * kG * t * t + (n == 3 ? 1e-3 : 0.0)) << ","
+        << (n == 2 ? "" : "1e-7") << "\n";
   }
   csv.close();
   const auto run = RunOutputs::read(m_dir);
   const auto* measure = find_error_measure("free_fall");
   ASSERT_NE(measure, nullptr);
-  nlohmann::json params = {{"column", "plate.height"}, {"initial_height", 1.0},
-                           {"initial_velocity", 0.0}};
+  nlohmann::json params = {
+      {"column", "plate.height"}, {"initial_height", 1.0}, {"initial_velocity", 0.0}};
   EXPECT_NEAR(measure->evaluate(run, params), 1e-3 / (0.5 * kG * 0.09), kRoundOff);
   // A counter the run never wrote (a smoke run has no level-set columns) is no work.
   EXPECT_EQ(find_error_measure("idle_work")->evaluate(run, {{"column", "air.fmm_marched_nodes"}}),
@@ -174,7 +174,8 @@ TEST(ErrorMeasureRegistry, EveryMeasureIsDocumentedAndBindsItsColumns) {
   }
   // The fluid's columns come from the scene's fluid instance name.
   nlohmann::json params = nlohmann::json::object();
-  const nlohmann::json scene = {{"fluid", {{"name", "water"}, {"water", nlohmann::json::object()}}}};
+  const nlohmann::json scene = {
+      {"fluid", {{"name", "water"}, {"water", nlohmann::json::object()}}}};
   EXPECT_EQ(find_error_measure("still_fluid_speed")->bind(params, scene), "");
   EXPECT_EQ(params["column"], "water.max_speed");
   // A measure of the fluid in a scene without one says so.

@@ -24,8 +24,9 @@ class RecordRun : public ::testing::Test {
              std::to_string(::getpid()));
     fs::create_directories(m_dir);
     // K = 2, 4, 1 and P = 0, −1, 0.5: E = 2, 3, 1.5, so (E_end − E_first) / max K = −0.125.
-    std::ofstream(m_dir / "metrics.csv") << "step,frame,time,dt,a.kinetic_energy,a.potential_energy\n"
-                                            "1,0,0.1,0.1,2,0\n2,0,0.2,0.1,4,-1\n3,0,0.3,0.1,1,0.5\n";
+    std::ofstream(m_dir / "metrics.csv")
+        << "step,frame,time,dt,a.kinetic_energy,a.potential_energy\n"
+           "1,0,0.1,0.1,2,0\n2,0,0.2,0.1,4,-1\n3,0,0.3,0.1,1,0.5\n";
   }
   void TearDown() override { fs::remove_all(m_dir); }
   RunRecord record(const std::string& run_json, ChildOutcome child = {}) {

@@ -21,11 +21,11 @@
 namespace shellflow::bench {
 
 struct BenchOptions {
-  std::filesystem::path out;          ///< the bench folder
-  int jobs = 1;                       ///< runs at once (1 for timings that mean something)
-  bool overwrite = false;             ///< replace a bench already in `out`
-  std::filesystem::path executable;   ///< the `shellflow` to run each scene with
-  std::FILE* progress = stderr;       ///< "run k of n ... ETA" lines; null: quiet
+  std::filesystem::path out;                ///< the bench folder
+  int jobs = 1;                             ///< runs at once (1 for timings that mean something)
+  bool overwrite = false;                   ///< replace a bench already in `out`
+  std::filesystem::path executable;         ///< the `shellflow` to run each scene with
+  std::FILE* progress = stderr;             ///< "run k of n ... ETA" lines; null: quiet
   const std::atomic<bool>* stop = nullptr;  ///< set by Ctrl-C: start no further run
 };
 

@@ -29,7 +29,7 @@ enum class Spacing {
 };
 
 struct SweepAxis {
-  std::string pointer;                ///< RFC 6901 pointer into the scene, e.g. /fluid/resolution
+  std::string pointer;                 ///< RFC 6901 pointer into the scene, e.g. /fluid/resolution
   std::vector<nlohmann::json> values;  ///< the full sweep, or the small one with --small
   std::string values_path;             ///< where they are in the spec: /sweep/<i>/values
   Spacing spacing = Spacing::None;
@@ -45,15 +45,15 @@ struct MeasureSpec {
 };
 
 struct BenchSpec {
-  std::filesystem::path file;        ///< absolute
-  std::string name;                  ///< "name", or the file's stem
+  std::filesystem::path file;  ///< absolute
+  std::string name;            ///< "name", or the file's stem
   std::string description;
   std::filesystem::path scene_file;  ///< absolute
   std::optional<int> frames;         ///< overrides the scene's /time/frames
   bool keep_outputs = false;         ///< keep the scene's writers (off: metrics only)
   std::vector<SweepAxis> axes;
   std::vector<MeasureSpec> measures;
-  nlohmann::json base_scene;  ///< the scene file as written (sweeps apply to this)
+  nlohmann::json base_scene;      ///< the scene file as written (sweeps apply to this)
   nlohmann::json resolved_scene;  ///< the base scene validated, defaults filled in
   std::vector<std::filesystem::path> plugin_dirs;  ///< searched after the scene's plugin_path
 };

@@ -25,14 +25,14 @@ std::string to_string(RunOutcome outcome);
 struct RunRecord {
   SweepPoint point;
   RunOutcome outcome = RunOutcome::Failed;
-  std::string message;       ///< run.json's message, the signal, or the log's last line
+  std::string message;  ///< run.json's message, the signal, or the log's last line
   int exit_code = -1;
   double wall_seconds = 0.0;  ///< the child process, start to end [s]
   /// The run's own wall time (run.json: validation, set-up and the steps, without the
   /// process start and plugin loading); what costs are compared by [s].
   double run_seconds = 0.0;
   long long steps = 0;
-  double sim_time = 0.0;     ///< simulated time reached [s]
+  double sim_time = 0.0;  ///< simulated time reached [s]
   double peak_mb = 0.0;
   /// (E_end − E_first) / max over steps of K, with K the sum of the *.kinetic_energy
   /// columns (the solids', a smoke fluid's) and E = K + the *.potential_energy columns:

@@ -30,8 +30,8 @@ class FluidProbes {
   FluidProbes(const nlohmann::json& probes, const std::string& path);
 
   /// `density`: the smoke's node density (empty for water); `level_set`: null for smoke.
-  void report(sdk::Metrics& out, const grid::UniformGrid& grid,
-              const std::vector<double>& density, const LevelSet* level_set) const;
+  void report(sdk::Metrics& out, const grid::UniformGrid& grid, const std::vector<double>& density,
+              const LevelSet* level_set) const;
 
   bool empty() const { return m_probes.empty(); }
 
