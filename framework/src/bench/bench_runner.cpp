@@ -7,6 +7,7 @@
 #include <string>
 
 #include "shellflow/bench/bench_report.hpp"
+#include "shellflow/bench/finest_reference.hpp"
 #include "shellflow/bench/sweep_plan.hpp"
 #include "shellflow/sdk/atomic_file.hpp"
 #include "shellflow/sdk/error.hpp"
@@ -129,6 +130,7 @@ std::vector<RunRecord> run_bench(const BenchSpec& spec, const BenchOptions& opti
     std::vector<RunRecord> out;
     for (size_t i = 0; i < records.size(); ++i)
       if (done[i]) out.push_back(records[i]);
+    compare_with_finest(spec, out);  // against the finest run finished so far
     return out;
   };
   run_child_processes(

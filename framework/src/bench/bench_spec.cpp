@@ -1,5 +1,6 @@
 #include "shellflow/bench/bench_spec.hpp"
 
+#include <algorithm>
 #include <fstream>
 #include <sstream>
 
@@ -250,6 +251,13 @@ BenchSpec load_bench_spec(const fs::path& file_in, bool small,
     if (const std::string problem = definition->bind(params, spec.resolved_scene); !problem.empty())
       validator.add_issue(path, problem);
     m.params = params;
+    if (definition->against_finest &&
+        std::none_of(spec.axes.begin(), spec.axes.end(),
+                     [](const SweepAxis& a) { return a.spacing != Spacing::None; }))
+      validator.add_issue(path,
+                          "'" + m.measure +
+                              "' compares each run with the finest one: give one axis a "
+                              "\"spacing\" (\"value\" or \"inverse\") to say which is finest");
     if (std::find(labels.begin(), labels.end(), m.label) != labels.end())
       validator.add_issue(
           pointer_append(path, "label"),

@@ -209,6 +209,28 @@ std::vector<ErrorMeasure> make_registry() {
                                            run.metrics.column(p["surface"]), p["depth"],
                                            p["wavelength"], gravity_of(run));
        }});
+  {
+    ErrorMeasure m{
+        "against_finest",
+        "a column's last value (or its largest magnitude over steps, \"at\": \"max\") against "
+        "the same of the finest run of the sweep along its refinement axis, the other axes "
+        "equal: |v − v_finest| / |v_finest|",
+        "the finest run of the sweep (its own error is left empty, its message says so)",
+        "1",
+        Schema::object("")
+            .field("column", Schema::string().doc("the column, e.g. smoke.kinetic_energy"))
+            .field("at", Schema::string("end")
+                             .one_of({"end", "max"})
+                             .doc("'end': the last step's value; 'max': the largest magnitude")),
+        [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
+        [](const RunOutputs& run, const Json& p) {
+          const auto v = run.metrics.column(p["column"]);
+          if (v.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+          return p["at"] == "max" ? max_abs(v) : v.back();
+        }};
+    m.against_finest = true;
+    r.push_back(m);
+  }
   r.push_back(
       {"idle_work",
        "work the scene does not need (cost follows need): max over steps of a counter column; a "

@@ -86,6 +86,9 @@ struct ErrorMeasure {
   std::function<std::string(nlohmann::json& params, const nlohmann::json& resolved_scene)> bind;
   /// The measure of one run. @throw MeasureError when the outputs lack what it needs.
   std::function<double(const RunOutputs& run, const nlohmann::json& params)> evaluate;
+  /// When true, `evaluate` gives a value, not an error: the bench compares it with the
+  /// value of the finest run of the sweep (finest_reference.hpp).
+  bool against_finest = false;
 };
 
 /// Every measure, in the order they are documented.
