@@ -1,22 +1,19 @@
 // The `shellflow` command line: run, validate, list plugins, write a new plugin, make a movie
-// or plots of a run.
+// or plots of a run, bench a sweep of runs.
 
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
 
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <atomic>
-#include <cerrno>
 #include <csignal>
 #include <cstdio>
-#include <cstring>
-#include <iostream>
+#include <filesystem>
 
+#include "bench_command.hpp"
 #include "new_solid.hpp"
 #include "preview_movie.hpp"
+#include "python_script.hpp"
 #include "shellflow/runtime/plugin_docs.hpp"
 #include "shellflow/runtime/plugin_registry.hpp"
 #include "shellflow/runtime/progress.hpp"
@@ -84,47 +81,9 @@ int movie_command(const std::string& run_dir) {
 /// `shellflow plot`: scripts/plot_run.py (installed as <prefix>/share/shellflow/plot_run.py)
 /// with the python3 that has Debian's python3-matplotlib, arguments passed as given.
 int plot_command(const std::string& run_dir, const std::vector<std::string>& columns) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
-  std::vector<fs::path> candidates;
-  if (!ec) candidates.push_back(exe.parent_path().parent_path() / "share/shellflow/plot_run.py");
-  candidates.emplace_back(SHELLFLOW_SOURCE_SCRIPTS_DIR "/plot_run.py");
-  fs::path script;
-  for (const auto& c : candidates)
-    if (fs::is_regular_file(c, ec)) {
-      script = c;
-      break;
-    }
-  if (script.empty())
-    throw shellflow::IoError("cannot find plot_run.py (looked in " + candidates.front().string() +
-                             " and " + candidates.back().string() + ")");
-  std::string python;
-  if (const char* env = std::getenv("SHELLFLOW_PYTHON"); env && *env)
-    python = env;
-  else if (::access("/usr/bin/python3", X_OK) == 0)
-    python = "/usr/bin/python3";  // where Debian's python3-matplotlib is
-  else
-    python = app::find_on_path("python3").string();
-  if (python.empty())
-    throw shellflow::IoError("python3 is not on PATH: install python3 and python3-matplotlib");
-  std::vector<std::string> args = {python, script.string(), run_dir};
+  std::vector<std::string> args = {run_dir};
   args.insert(args.end(), columns.begin(), columns.end());
-  std::vector<char*> argv;
-  for (auto& a : args) argv.push_back(a.data());
-  argv.push_back(nullptr);
-  std::fflush(stdout);
-  std::fflush(stderr);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    ::execv(argv[0], argv.data());
-    std::fprintf(stderr, "error: cannot run %s: %s\n", argv[0], std::strerror(errno));
-    ::_exit(127);
-  }
-  int status = 0;
-  if (pid < 0 || ::waitpid(pid, &status, 0) < 0)
-    throw shellflow::IoError(std::string("cannot start python3: ") + std::strerror(errno));
-  return WIFEXITED(status) && WEXITSTATUS(status) == 0 ? kExitOk : kExitInputError;
+  return app::run_python_script("plot_run.py", args) == 0 ? kExitOk : kExitInputError;
 }
 
 int run_command(const std::string& scene_file, std::optional<int> frames,
@@ -275,6 +234,28 @@ int main(int argc, char** argv) {
                    "metrics.csv columns (default: energies, volumes, masses, iterations, "
                    "maximum speeds)");
 
+  app::BenchArguments bench_args;
+  auto* bench = app.add_subcommand(
+      "bench",
+      "sweep a scene (a bench spec's axes), run each point as its own child run, and "
+      "write run time, peak memory and errors: results.csv, results.md, plots/");
+  bench->add_option("spec", bench_args.spec_file, "bench spec JSON file (configs/bench/)")
+      ->required();
+  bench->add_option("--out", bench_args.out,
+                    "bench folder (default: out/bench/<name>, out/bench/<name>-small)");
+  bench
+      ->add_option("--jobs", bench_args.jobs,
+                   "runs at once (default 1: concurrent runs share the cores and the timings "
+                   "mean less)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  bench->add_flag("--small", bench_args.small,
+                  "each axis's \"small\" values and the spec's \"small_frames\" (seconds)");
+  bench->add_flag("--overwrite", bench_args.overwrite, "replace the bench already in the folder");
+  bench->add_flag_function(
+      "--no-plots", [&](std::int64_t) { bench_args.plots = false; },
+      "write no PNGs (results.csv and results.md only)");
+
   CLI11_PARSE(app, argc, argv);
   try {
     if (run->parsed())
@@ -284,6 +265,10 @@ int main(int argc, char** argv) {
     if (new_solid->parsed()) return new_solid_command(new_name, new_dir);
     if (movie->parsed()) return movie_command(run_dir);
     if (plot->parsed()) return plot_command(run_dir, plot_columns);
+    if (bench->parsed()) {
+      std::signal(SIGINT, on_interrupt);  // finish the running runs, start no more
+      return app::bench_command(bench_args, &g_stop_requested);
+    }
   } catch (const shellflow::Error& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return kExitInputError;

@@ -138,6 +138,8 @@ std::string describe_schema(const SchemaJson& s) {
     out = "an array of integers";
   else if (kind == "object")
     out = "an object";
+  else if (kind == "any")
+    out = "any JSON value";
   else if (kind == "array")
     out = "an array";
   else if (kind == "variant")
@@ -202,6 +204,8 @@ void SchemaValidator::validate(Json& v, const SchemaJson& s, const std::string& 
     v = p.string();
   } else if (kind == "number_list" || kind == "integer_list") {
     validate_list(v, s, path, kind == "integer_list");
+  } else if (kind == "any") {
+    // Checked by whoever reads it.
   } else if (kind == "object") {
     validate_object(v, s, path, {});
   } else if (kind == "plugin") {

@@ -279,6 +279,15 @@ void MassSpringCloth::report(sdk::Metrics& out) const {
   out.set("ccd_collisions", s.collisions.ccd_collisions);
   out.set("impact_zones", s.collisions.impact_zones);
   out.set("max_strain", m_simulator->max_structural_strain());
+  // The centre of mass, for known answers from metrics.csv alone (free fall: a parabola).
+  const Eigen::VectorXd& m = m_simulator->model().masses;
+  const Eigen::VectorXd& x = m_simulator->positions();
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  for (int k = 0; k < m.size(); ++k) centre += m[k] * x.segment<3>(3 * k);
+  centre /= m.sum();
+  out.set("center_x", centre.x());
+  out.set("center_y", centre.y());
+  out.set("center_z", centre.z());
 }
 
 }  // namespace shellflow::cloth

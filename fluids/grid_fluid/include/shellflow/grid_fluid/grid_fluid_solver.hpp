@@ -32,6 +32,7 @@
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid_fluid/fluid_probes.hpp"
 #include "shellflow/grid_fluid/pressure/coupling_pressure.hpp"
 #include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
@@ -139,6 +140,7 @@ class GridFluid final : public sdk::FluidSolver {
   PressureProjection m_projection;
   std::unique_ptr<CouplingPressure> m_coupling;  ///< made on the first two-way step
   std::unique_ptr<Liquid> m_liquid;              ///< water scenes only
+  FluidProbes m_probes;                          ///< figures for metrics.csv ("probes")
   double m_t_pressure = 0.0;                     ///< wall time of the last projection [s]
   geometry::ShellBand m_band;
   bool m_band_used = false;

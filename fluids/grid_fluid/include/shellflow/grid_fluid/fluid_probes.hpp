@@ -1,0 +1,49 @@
+#pragma once
+// Probes: figures of a region or a line of the fluid written to metrics.csv each step, so
+// that a known answer can be checked from the run's outputs alone (`shellflow bench`):
+//   "box"           <name>.smoke_mass (Σ density Δx³ over the nodes inside, smoke) or
+//                   <name>.water_volume (Σ H(−φ) Δx³ as LevelSet::volume, water)
+//   "water_extent"  <name>.extent: the distance from "from" along the segment to "to" of
+//                   the last point with φ <= 0 (φ trilinear, sampled every Δx/4, the zero
+//                   crossing interpolated linearly), 0 when the segment is dry. Along the
+//                   floor it is a dam break's front; up a vertical line, the surface height.
+
+#include <Eigen/Core>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "shellflow/grid/uniform_grid.hpp"
+#include "shellflow/sdk/metrics.hpp"
+#include "shellflow/sdk/schema.hpp"
+
+namespace shellflow::grid_fluid {
+
+class LevelSet;
+
+class FluidProbes {
+ public:
+  static sdk::Schema schema();
+  FluidProbes() = default;
+  /// `probes`: validated against schema(). @throw ConfigError for a duplicate name
+  /// (`path`: the probes' JSON path, for messages).
+  FluidProbes(const nlohmann::json& probes, const std::string& path);
+
+  /// `density`: the smoke's node density (empty for water); `level_set`: null for smoke.
+  void report(sdk::Metrics& out, const grid::UniformGrid& grid, const std::vector<double>& density,
+              const LevelSet* level_set) const;
+
+  bool empty() const { return m_probes.empty(); }
+
+ private:
+  enum class Type { Box, WaterExtent };
+  struct Probe {
+    std::string name;
+    Type type = Type::Box;
+    Eigen::Vector3d a = Eigen::Vector3d::Zero();  ///< box min, or the segment's start
+    Eigen::Vector3d b = Eigen::Vector3d::Zero();  ///< box max, or the segment's end
+  };
+  std::vector<Probe> m_probes;
+};
+
+}  // namespace shellflow::grid_fluid

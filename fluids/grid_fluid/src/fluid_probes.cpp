@@ -1,0 +1,125 @@
+#include "shellflow/grid_fluid/fluid_probes.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "shellflow/grid_fluid/water/level_set.hpp"
+#include "shellflow/sdk/error.hpp"
+#include "shellflow/sdk/json_helpers.hpp"
+
+namespace shellflow::grid_fluid {
+
+using grid::Location;
+using sdk::Schema;
+
+namespace {
+
+/// Smeared Heaviside H(−φ) of width 1.5Δx, as LevelSet::volume (Osher and Fedkiw 2002, 7.1).
+double wet_fraction(double phi, double eps) {
+  if (phi <= -eps) return 1.0;
+  if (phi >= eps) return 0.0;
+  const double x = -phi;
+  return 0.5 + x / (2.0 * eps) + std::sin(std::numbers::pi * x / eps) / (2.0 * std::numbers::pi);
+}
+
+}  // namespace
+
+Schema FluidProbes::schema() {
+  return Schema::array(
+             Schema::variant("type", "a probe whose figures metrics.csv gets each step")
+                 .option("box", Schema::object("smoke mass or water volume inside a box")
+                                    .field("name", Schema::string().doc(
+                                                       "column prefix: <fluid>.<name>.smoke_mass "
+                                                       "or .water_volume"))
+                                    .field("min", Schema::vec3().unit("m").doc("lower corner"))
+                                    .field("max", Schema::vec3().unit("m").doc("upper corner")))
+                 .option("water_extent",
+                         Schema::object("how far water reaches along a segment")
+                             .field("name", Schema::string().doc("column prefix: "
+                                                                 "<fluid>.<name>.extent [m]"))
+                             .field("from", Schema::vec3().unit("m").doc("start of the segment"))
+                             .field("to", Schema::vec3().unit("m").doc("end of the segment"))))
+      .default_value(nlohmann::json::array())
+      .doc("figures of regions and lines written to metrics.csv (for known answers)");
+}
+
+FluidProbes::FluidProbes(const nlohmann::json& probes, const std::string& path) {
+  for (size_t i = 0; i < probes.size(); ++i) {
+    const auto& p = probes[i];
+    Probe probe;
+    probe.name = p.at("name").get<std::string>();
+    const std::string here = path + "/" + std::to_string(i);
+    if (probe.name.empty() || probe.name.find_first_of("., ") != std::string::npos)
+      throw ConfigError(here + "/name",
+                        "a probe name is a column prefix: non-empty, without "
+                        "'.', ',' or spaces");
+    for (const auto& other : m_probes)
+      if (other.name == probe.name)
+        throw ConfigError(here + "/name", "the probe name '" + probe.name + "' is used twice");
+    if (p.at("type") == "box") {
+      probe.type = Type::Box;
+      probe.a = sdk::json_vec3(p, "min");
+      probe.b = sdk::json_vec3(p, "max");
+      if ((probe.b.array() < probe.a.array()).any())
+        throw ConfigError(here + "/max", "each coordinate of max must be >= min's");
+    } else {
+      probe.type = Type::WaterExtent;
+      probe.a = sdk::json_vec3(p, "from");
+      probe.b = sdk::json_vec3(p, "to");
+      if ((probe.b - probe.a).norm() == 0.0)
+        throw ConfigError(here + "/to", "the segment has no length: give 'to' apart from 'from'");
+    }
+    m_probes.push_back(probe);
+  }
+}
+
+void FluidProbes::report(sdk::Metrics& out, const grid::UniformGrid& grid,
+                         const std::vector<double>& density, const LevelSet* level_set) const {
+  const double dx = grid.dx();
+  const double cell = dx * dx * dx;
+  const Eigen::Vector3i n = grid.counts(Location::Node);
+  for (const auto& p : m_probes) {
+    if (p.type == Type::Box) {
+      const grid::IndexBox box = grid.samples_in_box(Location::Node, p.a, p.b);
+      double sum = 0.0;
+      const double eps = 1.5 * dx;
+      if (!box.empty())
+        for (int k = box.lo.z(); k <= box.hi.z(); ++k)
+          for (int j = box.lo.y(); j <= box.hi.y(); ++j)
+            for (int i = box.lo.x(); i <= box.hi.x(); ++i) {
+              const std::int64_t node = grid.index(Location::Node, i, j, k);
+              if (level_set) {
+                // Domain-face nodes weigh 1/2 per face, as in LevelSet::volume.
+                const double w = (i == 0 || i == n.x() - 1 ? 0.5 : 1.0) *
+                                 (j == 0 || j == n.y() - 1 ? 0.5 : 1.0) *
+                                 (k == 0 || k == n.z() - 1 ? 0.5 : 1.0);
+                sum += w * wet_fraction(level_set->phi()[node], eps);
+              } else if (!density.empty()) {
+                sum += density[node];
+              }
+            }
+      out.set(p.name + (level_set ? ".water_volume" : ".smoke_mass"), sum * cell);
+    } else {
+      double extent = 0.0;
+      if (level_set) {
+        const double length = (p.b - p.a).norm();
+        const int samples = std::max(2, static_cast<int>(std::ceil(4.0 * length / dx)) + 1);
+        double previous = 0.0;
+        for (int s = samples - 1; s >= 0; --s) {
+          const double t = static_cast<double>(s) / (samples - 1);
+          const double phi = level_set->sample(p.a + t * (p.b - p.a));
+          if (phi <= 0.0) {
+            extent = t * length;
+            if (s < samples - 1)  // the crossing between this sample and the next one out
+              extent += (length / (samples - 1)) * phi / (phi - previous);
+            break;
+          }
+          previous = phi;
+        }
+      }
+      out.set(p.name + ".extent", extent);
+    }
+  }
+}
+
+}  // namespace shellflow::grid_fluid

@@ -1,0 +1,99 @@
+#pragma once
+// Error measures: named, documented functions of a run's outputs (metrics.csv, run.json)
+// whose exact value is known (an analytic answer, published data, or a conserved
+// quantity). A bench spec names them under "measures"; each returns one non-negative
+// number per run, 0 for an exact run.
+//
+// Each measure is a plain function of metrics columns (tested on hand-made tables) plus
+// a registry entry that reads its parameters, fills in the columns from the scene's
+// instance names and calls it.
+
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "shellflow/bench/run_outputs.hpp"
+#include "shellflow/sdk/schema.hpp"
+
+namespace shellflow::bench {
+
+// --- The measures as functions of columns (one value per step) ---------------------------
+
+/// Largest |u| of a fluid that should stay still [m/s]: max over steps of `speed`
+/// (grid_fluid's max_speed, the largest face speed). Known answer: 0 (still water under
+/// gravity, §4.3 hydrostatics; still air about a static shell).
+double still_fluid_speed(const std::vector<double>& speed);
+
+/// Largest relative divergence after projection: max over steps of `divergence`
+/// (grid_fluid's max_divergence, |∇·u| Δx / max|u| after the solve). Known answer: 0.
+double max_relative_divergence(const std::vector<double>& divergence);
+
+/// Water volume drift: max over steps of |V(t) − V(0)| / V(0), with V(0) = volume − change
+/// of the first row (grid_fluid's water_volume and water_volume_change). Known answer: 0
+/// (incompressible water in a closed tank keeps its volume).
+double water_volume_drift(const std::vector<double>& volume, const std::vector<double>& change);
+
+/// Free fall against the parabola h(t) = h0 + v0 t − g t² / 2: max over steps of
+/// |h − h(t)| divided by the drop g T² / 2 at the last time T.
+double free_fall_error(const std::vector<double>& time, const std::vector<double>& height,
+                       double h0, double v0, double g);
+
+/// Leak across a sealed shell: max over steps of `far` / `total` (smoke on the side of the
+/// shell it never reaches, over all smoke). Known answer: 0 (§3–4: nothing crosses a shell).
+double leak_fraction(const std::vector<double>& far, const std::vector<double>& total);
+
+/// One point of Martin and Moyce (1952), Table 2: T = t √(2g/a), Z = front / a.
+struct FrontSample {
+  double T = 0.0;
+  double Z = 0.0;
+};
+/// Reads T,Z rows of a CSV (lines starting '#' and the header skipped).
+/// @throw IoError, MeasureError.
+std::vector<FrontSample> read_front_data(const std::filesystem::path& file);
+
+/// Dam-break front against data: max over the data points with T in [T_from, T_to] (and
+/// within the run) of |Z_sim(T) − Z| / Z, Z_sim interpolated linearly in T between steps;
+/// `front` is the front's distance from the back wall [m], `a` the column's width [m].
+double dam_break_front_error(const std::vector<double>& time, const std::vector<double>& front,
+                             double a, double g, const std::vector<FrontSample>& data,
+                             double T_from, double T_to);
+
+/// Standing wave's period against linear theory, ω² = g k tanh(k h) with k = 2π/λ:
+/// |P − P_theory| / P_theory, P from the zero crossings of `surface` − `depth` (linear
+/// between steps, half a period apart). Needs at least two crossings.
+double standing_wave_period_error(const std::vector<double>& time,
+                                  const std::vector<double>& surface, double depth,
+                                  double wavelength, double g);
+
+/// Work a scene does not need ("cost follows need"): max over steps of a counter a plugin
+/// reports (grid_fluid's band_nodes with no shells, coupling_faces with no two-way shell,
+/// fmm_marched_nodes in smoke, ...). Known answer: 0. An empty column (never written)
+/// is no work.
+double idle_work(const std::vector<double>& counter);
+
+// --- The registry that bench specs name -------------------------------------------------
+
+struct ErrorMeasure {
+  std::string name;
+  std::string doc;        ///< what it measures and the known answer
+  std::string reference;  ///< where the answer comes from: analytic, data (file), conserved
+  std::string unit;       ///< of the value ("1" for a ratio)
+  sdk::Schema params;     ///< its parameters (besides "measure" and "label")
+  /// Fills in what depends on the scene (the fluid's instance name ...); `params` are
+  /// validated against `params`. Returns what is wrong, or "".
+  std::function<std::string(nlohmann::json& params, const nlohmann::json& resolved_scene)> bind;
+  /// The measure of one run. @throw MeasureError when the outputs lack what it needs.
+  std::function<double(const RunOutputs& run, const nlohmann::json& params)> evaluate;
+  /// When true, `evaluate` gives a value, not an error: the bench compares it with the
+  /// value of the finest run of the sweep (finest_reference.hpp).
+  bool against_finest = false;
+};
+
+/// Every measure, in the order they are documented.
+const std::vector<ErrorMeasure>& error_measures();
+/// By name, or null.
+const ErrorMeasure* find_error_measure(const std::string& name);
+
+}  // namespace shellflow::bench

@@ -1,0 +1,358 @@
+#include "shellflow/bench/error_measures.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+namespace shellflow::bench {
+
+using Json = nlohmann::json;
+using sdk::Schema;
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Max over the finite entries; NaN (never a silent 0) when a step holds a non-finite value,
+/// since a run that produced one has no error to report.
+double max_abs(const std::vector<double>& values) {
+  if (values.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+  double worst = 0.0;
+  for (const double v : values) {
+    if (!std::isfinite(v)) return kNaN;
+    worst = std::max(worst, std::abs(v));
+  }
+  return worst;
+}
+
+void same_length(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) throw MeasureError("columns of different lengths");
+  if (a.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+}
+
+double linear(const std::vector<double>& xs, const std::vector<double>& ys, double x) {
+  if (x <= xs.front()) return ys.front();
+  for (size_t i = 1; i < xs.size(); ++i)
+    if (x <= xs[i]) return ys[i - 1] + (ys[i] - ys[i - 1]) * (x - xs[i - 1]) / (xs[i] - xs[i - 1]);
+  return ys.back();
+}
+
+// --- Scene helpers for bind() ---------------------------------------------------------
+
+std::vector<std::string> instance_names(const Json& scene) {
+  std::vector<std::string> names;
+  if (scene.contains("fluid")) names.push_back(scene["fluid"].value("name", ""));
+  for (const char* list : {"solids"})
+    if (scene.contains(list))
+      for (const auto& s : scene[list]) names.push_back(s.value("name", ""));
+  return names;
+}
+
+/// A column "<instance>.<key>" (or a runtime column without '.') must name an instance the
+/// scene has: a typo is caught before anything runs.
+std::string check_column(const Json& params, const std::string& key, const Json& scene) {
+  const std::string column = params.at(key);
+  const auto dot = column.find('.');
+  if (dot == std::string::npos) return "";  // the runtime's own: time, dt, t_advect, ...
+  const std::string instance = column.substr(0, dot);
+  const auto names = instance_names(scene);
+  if (std::find(names.begin(), names.end(), instance) != names.end()) return "";
+  std::string list;
+  for (const auto& n : names) list += (list.empty() ? "'" : ", '") + n + "'";
+  return "\"" + key + "\": the column '" + column + "' names the instance '" + instance +
+         "', which the scene does not have (instances: " + list + ")";
+}
+
+/// Binds a measure that reads one of the fluid's columns: "fluid" (default: the scene's
+/// fluid) becomes params["column"] = "<fluid>.<key>".
+std::function<std::string(Json&, const Json&)> bind_fluid_column(const std::string& key) {
+  return [key](Json& params, const Json& scene) -> std::string {
+    if (!scene.contains("fluid"))
+      return "this measure reads the fluid's '" + key +
+             "' column, but the base scene has no \"fluid\"";
+    const std::string fluid = scene["fluid"].value("name", "");
+    if (params.contains("fluid") && params["fluid"] != fluid)
+      return "\"fluid\": the scene's fluid is named '" + fluid + "', not " + params["fluid"].dump();
+    params["column"] = fluid + "." + key;
+    return "";
+  };
+}
+
+Schema fluid_param() {
+  return Schema::string().optional().doc("the fluid's instance name (default: the scene's fluid)");
+}
+
+double gravity_of(const RunOutputs& run) {
+  const Json& g = run.run.at("config").at("gravity");
+  return std::sqrt(g[0].get<double>() * g[0].get<double>() +
+                   g[1].get<double>() * g[1].get<double>() +
+                   g[2].get<double>() * g[2].get<double>());
+}
+
+std::vector<ErrorMeasure> make_registry() {
+  std::vector<ErrorMeasure> r;
+  r.push_back({"still_fluid_speed",
+               "largest face speed of a fluid that should stay still (max over steps of "
+               "<fluid>.max_speed); 0 for still water under gravity or still air",
+               "analytic: 0", "m/s", Schema::object("").field("fluid", fluid_param()),
+               bind_fluid_column("max_speed"), [](const RunOutputs& run, const Json& p) {
+                 return still_fluid_speed(run.metrics.column(p["column"]));
+               }});
+  r.push_back({"max_divergence",
+               "largest relative divergence after the projection (max over steps of "
+               "<fluid>.max_divergence); 0 for an exact projection",
+               "analytic: 0", "1", Schema::object("").field("fluid", fluid_param()),
+               bind_fluid_column("max_divergence"), [](const RunOutputs& run, const Json& p) {
+                 return max_relative_divergence(run.metrics.column(p["column"]));
+               }});
+  r.push_back({"water_volume_drift",
+               "largest |V(t) − V(0)| / V(0) of the water (<fluid>.water_volume and "
+               "water_volume_change); 0 in a closed tank",
+               "conserved: the initial volume", "1",
+               Schema::object("").field("fluid", fluid_param()),
+               [](Json& params, const Json& scene) {
+                 const std::string problem = bind_fluid_column("water_volume")(params, scene);
+                 if (problem.empty() && !scene["fluid"].contains("water"))
+                   return std::string("the base scene's fluid has no \"water\" block");
+                 return problem;
+               },
+               [](const RunOutputs& run, const Json& p) {
+                 const std::string column = p["column"];
+                 return water_volume_drift(run.metrics.column(column),
+                                           run.metrics.column(column + "_change"));
+               }});
+  r.push_back(
+      {"free_fall",
+       "a height column against the parabola h0 + v0 t − g t²/2 (g = |gravity| of the run): max "
+       "error over steps divided by the drop g T²/2",
+       "analytic: the parabola", "1",
+       Schema::object("")
+           .field("column", Schema::string().doc("the height column, e.g. plate.height"))
+           .field("initial_height", Schema::number().unit("m").doc("h0: the height at t = 0"))
+           .field("initial_velocity",
+                  Schema::number(0.0).unit("m/s").doc("v0: upward velocity at t = 0")),
+       [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
+       [](const RunOutputs& run, const Json& p) {
+         return free_fall_error(run.metrics.column("time"), run.metrics.column(p["column"]),
+                                p["initial_height"], p["initial_velocity"], gravity_of(run));
+       }});
+  r.push_back(
+      {"leak_fraction",
+       "largest share of the smoke found where it can never go (a region sealed off by "
+       "a shell): max over steps of far / total",
+       "analytic: 0", "1",
+       Schema::object("")
+           .field("far", Schema::string().doc("the column of the smoke beyond the shell, e.g. a "
+                                              "grid_fluid probe's smoke.far.smoke_mass"))
+           .field("total", Schema::string().optional().doc(
+                               "the column of all smoke (default: <fluid>.smoke_mass)")),
+       [](Json& params, const Json& scene) -> std::string {
+         if (!params.contains("total")) {
+           if (!scene.contains("fluid")) return "the base scene has no \"fluid\": give \"total\"";
+           params["total"] = scene["fluid"].value("name", "") + ".smoke_mass";
+         }
+         if (auto problem = check_column(params, "far", scene); !problem.empty()) return problem;
+         return check_column(params, "total", scene);
+       },
+       [](const RunOutputs& run, const Json& p) {
+         return leak_fraction(run.metrics.column(p["far"]), run.metrics.column(p["total"]));
+       }});
+  r.push_back(
+      {"dam_break_front",
+       "the front of a collapsing water column against Martin and Moyce (1952): max over their "
+       "points with T = t √(2g/a) in [from_T, to_T] of |Z − Z_data| / Z_data, Z = front / a",
+       "data: Martin and Moyce 1952, Table 2 (tests/data/martin_moyce_1952.csv)", "1",
+       Schema::object("")
+           .field("front", Schema::string().doc(
+                               "the column of the front's distance from the back wall [m], a "
+                               "grid_fluid probe's <fluid>.<probe>.extent"))
+           .field("width", Schema::number().min(0.0, false).unit("m").doc("a: the column's width"))
+           .field("data", Schema::file().doc("T,Z data, relative to the spec"))
+           .field("from_T",
+                  Schema::number(1.5).doc("first T compared (their gate took time to "
+                                          "lift: earlier fronts lag any instant release)"))
+           .field("to_T", Schema::number(3.0).doc("last T compared")),
+       [](Json& params, const Json& scene) -> std::string {
+         if (params["from_T"].get<double>() >= params["to_T"].get<double>())
+           return "\"from_T\" must be below \"to_T\"";
+         try {
+           read_front_data(params["data"].get<std::string>());
+         } catch (const Error& e) {
+           return "\"data\": " + std::string(e.what());
+         }
+         return check_column(params, "front", scene);
+       },
+       [](const RunOutputs& run, const Json& p) {
+         return dam_break_front_error(run.metrics.column("time"), run.metrics.column(p["front"]),
+                                      p["width"], gravity_of(run),
+                                      read_front_data(p["data"].get<std::string>()), p["from_T"],
+                                      p["to_T"]);
+       }});
+  r.push_back(
+      {"standing_wave_period",
+       "a standing wave's period against linear theory ω² = g k tanh(k h), k = 2π/λ: |P − "
+       "P_theory| "
+       "/ P_theory with P from the zero crossings of surface − depth",
+       "analytic: linear theory (Lamb 1932, §228)", "1",
+       Schema::object("")
+           .field("surface",
+                  Schema::string().doc("the column of the surface height at one place [m]"))
+           .field("depth", Schema::number().min(0.0, false).unit("m").doc("h: the still depth"))
+           .field("wavelength",
+                  Schema::number().min(0.0, false).unit("m").doc("λ of the standing wave")),
+       [](Json& params, const Json& scene) { return check_column(params, "surface", scene); },
+       [](const RunOutputs& run, const Json& p) {
+         return standing_wave_period_error(run.metrics.column("time"),
+                                           run.metrics.column(p["surface"]), p["depth"],
+                                           p["wavelength"], gravity_of(run));
+       }});
+  {
+    ErrorMeasure m{
+        "against_finest",
+        "a column's last value (or its largest magnitude over steps, \"at\": \"max\") against "
+        "the same of the finest run of the sweep along its refinement axis, the other axes "
+        "equal: |v − v_finest| / |v_finest|",
+        "the finest run of the sweep (its own error is left empty, its message says so)",
+        "1",
+        Schema::object("")
+            .field("column", Schema::string().doc("the column, e.g. smoke.kinetic_energy"))
+            .field("at", Schema::string("end")
+                             .one_of({"end", "max"})
+                             .doc("'end': the last step's value; 'max': the largest magnitude")),
+        [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
+        [](const RunOutputs& run, const Json& p) {
+          const auto v = run.metrics.column(p["column"]);
+          if (v.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+          return p["at"] == "max" ? max_abs(v) : v.back();
+        }};
+    m.against_finest = true;
+    r.push_back(m);
+  }
+  r.push_back(
+      {"idle_work",
+       "work the scene does not need (cost follows need): max over steps of a counter column; a "
+       "column the run does not write at all counts as no work",
+       "analytic: 0 (the run plan skips the feature)", "1",
+       Schema::object("").field(
+           "column", Schema::string().doc("the counter, e.g. smoke.band_nodes (shell band work), "
+                                          "smoke.coupling_faces, smoke.fmm_marched_nodes")),
+       [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
+       [](const RunOutputs& run, const Json& p) {
+         const std::string column = p["column"];
+         return run.metrics.has(column) ? idle_work(run.metrics.column(column)) : 0.0;
+       }});
+  return r;
+}
+
+}  // namespace
+
+double still_fluid_speed(const std::vector<double>& speed) {
+  return max_abs(speed);
+}
+
+double max_relative_divergence(const std::vector<double>& divergence) {
+  return max_abs(divergence);
+}
+
+double water_volume_drift(const std::vector<double>& volume, const std::vector<double>& change) {
+  same_length(volume, change);
+  const double v0 = volume.front() - change.front();
+  if (!(v0 > 0.0)) throw MeasureError("the water's initial volume is not positive");
+  return max_abs(change) / v0;
+}
+
+double free_fall_error(const std::vector<double>& time, const std::vector<double>& height,
+                       double h0, double v0, double g) {
+  same_length(time, height);
+  std::vector<double> error(time.size());
+  for (size_t i = 0; i < time.size(); ++i)
+    error[i] = height[i] - (h0 + v0 * time[i] - 0.5 * g * time[i] * time[i]);
+  const double drop = 0.5 * g * time.back() * time.back();
+  if (!(drop > 0.0)) throw MeasureError("free_fall: no drop (zero gravity or no time)");
+  return max_abs(error) / drop;
+}
+
+double idle_work(const std::vector<double>& counter) {
+  return counter.empty() ? 0.0 : max_abs(counter);
+}
+
+double leak_fraction(const std::vector<double>& far, const std::vector<double>& total) {
+  same_length(far, total);
+  std::vector<double> share(far.size());
+  for (size_t i = 0; i < far.size(); ++i) share[i] = total[i] > 0.0 ? far[i] / total[i] : 0.0;
+  return max_abs(share);
+}
+
+std::vector<FrontSample> read_front_data(const std::filesystem::path& file) {
+  std::ifstream in(file);
+  if (!in) throw IoError("cannot read " + file.string());
+  std::vector<FrontSample> rows;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#' || line[0] == 'T') continue;
+    FrontSample s;
+    char comma = 0;
+    if (!(std::istringstream(line) >> s.T >> comma >> s.Z) || comma != ',')
+      throw MeasureError(file.string() + ": expected rows T,Z, found '" + line + "'");
+    rows.push_back(s);
+  }
+  if (rows.empty()) throw MeasureError(file.string() + " holds no T,Z rows");
+  return rows;
+}
+
+double dam_break_front_error(const std::vector<double>& time, const std::vector<double>& front,
+                             double a, double g, const std::vector<FrontSample>& data,
+                             double T_from, double T_to) {
+  same_length(time, front);
+  const double scale = std::sqrt(2.0 * g / a);
+  std::vector<double> T(time.size()), Z(time.size());
+  for (size_t i = 0; i < time.size(); ++i) {
+    T[i] = time[i] * scale;
+    Z[i] = front[i] / a;
+  }
+  std::vector<double> errors;
+  for (const auto& s : data)
+    if (s.T >= T_from && s.T <= T_to && s.T <= T.back())
+      errors.push_back((linear(T, Z, s.T) - s.Z) / s.Z);
+  if (errors.empty())
+    throw MeasureError("dam_break_front: the run ends at T = " + std::to_string(T.back()) +
+                       ", before the first data point in [from_T, to_T]: run longer");
+  return max_abs(errors);
+}
+
+double standing_wave_period_error(const std::vector<double>& time,
+                                  const std::vector<double>& surface, double depth,
+                                  double wavelength, double g) {
+  same_length(time, surface);
+  for (const double s : surface)
+    if (!std::isfinite(s)) return kNaN;
+  std::vector<double> zeros;
+  for (size_t i = 1; i < time.size(); ++i) {
+    const double d0 = surface[i - 1] - depth, d1 = surface[i] - depth;
+    if ((d0 > 0.0) != (d1 > 0.0))
+      zeros.push_back(time[i - 1] + (time[i] - time[i - 1]) * d0 / (d0 - d1));
+  }
+  if (zeros.size() < 2)
+    throw MeasureError("standing_wave_period: the surface crossed its still depth " +
+                       std::to_string(zeros.size()) + " times; run at least one period");
+  const double period =
+      2.0 * (zeros.back() - zeros.front()) / static_cast<double>(zeros.size() - 1);
+  const double k = 2.0 * std::numbers::pi / wavelength;
+  const double theory = 2.0 * std::numbers::pi / std::sqrt(g * k * std::tanh(k * depth));
+  return std::abs(period - theory) / theory;
+}
+
+const std::vector<ErrorMeasure>& error_measures() {
+  static const std::vector<ErrorMeasure> registry = make_registry();
+  return registry;
+}
+
+const ErrorMeasure* find_error_measure(const std::string& name) {
+  for (const auto& m : error_measures())
+    if (m.name == name) return &m;
+  return nullptr;
+}
+
+}  // namespace shellflow::bench

@@ -1,0 +1,189 @@
+// Each error measure on outputs whose error is known exactly: hand-made columns and a
+// hand-made metrics.csv + run.json, built so that the answer is a number we can write down.
+
+#include <gmock/gmock.h>
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "shellflow/bench/bench_report.hpp"
+#include "shellflow/bench/error_measures.hpp"
+#include "shellflow/bench/run_outputs.hpp"
+
+namespace shellflow::bench {
+namespace {
+
+namespace fs = std::filesystem;
+using ::testing::HasSubstr;
+
+// Every value below is formed from a handful of floating-point operations on numbers of
+// order one: round-off, a few ulps.
+constexpr double kRoundOff = 1e-12;
+constexpr double kG = 9.81;
+
+TEST(ErrorMeasures, StillFluidSpeedIsTheLargestMagnitude) {
+  EXPECT_EQ(still_fluid_speed({1e-9, -3e-7, 2e-8}), 3e-7);
+  EXPECT_EQ(still_fluid_speed({0.0, 0.0}), 0.0);
+  // A run that wrote a non-finite value has no error to report, never a silent number.
+  EXPECT_TRUE(std::isnan(still_fluid_speed({1e-9, NAN, 2e-8})));
+  EXPECT_THROW(still_fluid_speed({}), MeasureError);
+}
+
+TEST(ErrorMeasures, MaxDivergenceIsTheLargestOverSteps) {
+  EXPECT_EQ(max_relative_divergence({1e-6, 4e-6, 2e-6}), 4e-6);
+}
+
+TEST(ErrorMeasures, WaterVolumeDriftIsRelativeToTheInitialVolume) {
+  // V(0) = 2 m³: each row holds V(t) and V(t) − V(0); the worst change is −0.05.
+  const std::vector<double> change = {0.01, -0.05, 0.02};
+  std::vector<double> volume;
+  for (const double c : change) volume.push_back(2.0 + c);
+  EXPECT_NEAR(water_volume_drift(volume, change), 0.025, kRoundOff);
+}
+
+TEST(ErrorMeasures, FreeFallOfBackwardEulerIsTheStepOverTheTime) {
+  // Backward Euler under gravity alone: v_n = −g n Δt exactly, h_n = h0 − g Δt² n(n+1)/2,
+  // so h_n − h(t_n) = −g t_n Δt / 2; at T the error over the drop g T²/2 is Δt / T.
+  const double h0 = 2.0, dt = 0.01;
+  const int steps = 50;  // T = 0.5 s
+  std::vector<double> t, h;
+  for (int n = 1; n <= steps; ++n) {
+    t.push_back(n * dt);
+    h.push_back(h0 - kG * dt * dt * n * (n + 1) / 2.0);
+  }
+  EXPECT_NEAR(free_fall_error(t, h, h0, 0.0, kG), dt / 0.5, kRoundOff);
+  // The exact parabola (thrown upwards at 1 m/s) has no error.
+  for (int n = 0; n < steps; ++n) h[n] = h0 + 1.0 * t[n] - 0.5 * kG * t[n] * t[n];
+  EXPECT_NEAR(free_fall_error(t, h, h0, 1.0, kG), 0.0, kRoundOff);
+}
+
+TEST(ErrorMeasures, IdleWorkIsTheLargestCount) {
+  EXPECT_EQ(idle_work({0.0, 0.0, 0.0}), 0.0);
+  EXPECT_EQ(idle_work({0.0, 12.0, 3.0}), 12.0);
+}
+
+TEST(ErrorMeasures, LeakFractionIsTheWorstShareBeyondTheShell) {
+  EXPECT_NEAR(leak_fraction({0.0, 1e-3, 2e-3}, {1.0, 1.0, 4.0}), 1e-3, kRoundOff);
+  // No smoke at all (before a source starts) is no leak.
+  EXPECT_EQ(leak_fraction({0.0}, {0.0}), 0.0);
+}
+
+TEST(ErrorMeasures, DamBreakFrontTenPercentAheadOfMartinAndMoyce) {
+  const auto data =
+      read_front_data(fs::path(SHELLFLOW_SOURCE_DIR) / "tests/data/martin_moyce_1952.csv");
+  ASSERT_GE(data.size(), 10u);
+  // A front exactly 10% ahead of every data point (samples at their own T, so the linear
+  // interpolation is exact there): the error is 0.1.
+  const double a = 0.25, scale = std::sqrt(2.0 * kG / a);
+  std::vector<double> t, front;
+  for (const auto& s : data) {
+    t.push_back(s.T / scale);
+    front.push_back(1.1 * s.Z * a);
+  }
+  EXPECT_NEAR(dam_break_front_error(t, front, a, kG, data, 1.5, 3.0), 0.1, kRoundOff);
+  // A run that ends before T = 1.5 cannot be compared.
+  EXPECT_THROW(dam_break_front_error({0.01, 0.02}, {0.3, 0.31}, a, kG, data, 1.5, 3.0),
+               MeasureError);
+}
+
+TEST(ErrorMeasures, StandingWavePeriodFivePercentLong) {
+  // η = h + A cos(2π t / P) with P 5% above linear theory for λ = 1, h = 0.25.
+  const double depth = 0.25, wavelength = 1.0, k = 2.0 * std::numbers::pi / wavelength;
+  const double theory = 2.0 * std::numbers::pi / std::sqrt(kG * k * std::tanh(k * depth));
+  const double period = 1.05 * theory;
+  std::vector<double> t, eta;
+  for (int n = 0; n <= 4000; ++n) {  // four periods, 1000 samples each
+    t.push_back(n * period / 1000.0);
+    eta.push_back(depth + 0.01 * std::cos(2.0 * std::numbers::pi * t.back() / period));
+  }
+  // The crossings are interpolated linearly where cos is linear to third order: the
+  // crossing times are exact to (ωΔt)³/6 ~ 4e-8 of a period.
+  EXPECT_NEAR(standing_wave_period_error(t, eta, depth, wavelength, kG), 0.05, 1e-6);
+  EXPECT_THROW(standing_wave_period_error({0.0, 0.1}, {0.26, 0.27}, depth, wavelength, kG),
+               MeasureError);
+}
+
+TEST(ErrorMeasures, LogLogSlopeOfAPowerLaw) {
+  EXPECT_NEAR(log_log_slope({1, 2, 4, 8}, {3, 12, 48, 192}), 2.0, kRoundOff);
+  // Non-positive and non-finite points are left out; one point is no line.
+  EXPECT_NEAR(log_log_slope({1, 2, 4, -1}, {5, 2.5, 1.25, 7}), -1.0, kRoundOff);
+  EXPECT_TRUE(std::isnan(log_log_slope({1, 2}, {0.0, 1.0})));
+}
+
+class HandMadeRun : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    m_dir = fs::temp_directory_path() /
+            ("shellflow_measures_" +
+             std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()) + "_" +
+             std::to_string(::getpid()));
+    fs::create_directories(m_dir);
+    std::ofstream(m_dir / "run.json") << R"({"status": "completed", "steps": 3,
+      "config": {"gravity": [0, -9.81, 0], "fluid": {"name": "air"}}})";
+  }
+  void TearDown() override { fs::remove_all(m_dir); }
+  fs::path m_dir;
+};
+
+TEST_F(HandMadeRun, FreeFallThroughTheRegistryReadsGravityFromRunJson) {
+  // h = 1 − g t²/2 + 0.001 at the last step: the error over the drop g T²/2 at T = 0.3.
+  std::ofstream csv(m_dir / "metrics.csv");
+  csv.precision(17);  // as the runtime writes them (%.17g): the values read back exactly
+  csv << "step,frame,time,dt,plate.height,air.max_speed\n";
+  for (int n = 1; n <= 3; ++n) {
+    const double t = 0.1 * n;
+    csv << n << ",0," << t << ",0.1," << (1.0 - 0.5 * kG * t * t + (n == 3 ? 1e-3 : 0.0)) << ","
+        << (n == 2 ? "" : "1e-7") << "\n";
+  }
+  csv.close();
+  const auto run = RunOutputs::read(m_dir);
+  const auto* measure = find_error_measure("free_fall");
+  ASSERT_NE(measure, nullptr);
+  nlohmann::json params = {
+      {"column", "plate.height"}, {"initial_height", 1.0}, {"initial_velocity", 0.0}};
+  EXPECT_NEAR(measure->evaluate(run, params), 1e-3 / (0.5 * kG * 0.09), kRoundOff);
+  // A counter the run never wrote (a smoke run has no level-set columns) is no work.
+  EXPECT_EQ(find_error_measure("idle_work")->evaluate(run, {{"column", "air.fmm_marched_nodes"}}),
+            0.0);
+  // An empty cell (a figure not reported at that step) reads as NaN: no error to give.
+  params = {{"column", "air.max_speed"}};
+  EXPECT_TRUE(std::isnan(find_error_measure("still_fluid_speed")->evaluate(run, params)));
+}
+
+TEST_F(HandMadeRun, MissingColumnNamesTheColumnsThereAre) {
+  std::ofstream(m_dir / "metrics.csv") << "step,frame,time,dt\n1,0,0.1,0.1\n";
+  const auto run = RunOutputs::read(m_dir);
+  try {
+    run.metrics.column("plate.height");
+    FAIL() << "a missing column was read";
+  } catch (const MeasureError& e) {
+    EXPECT_THAT(e.what(), HasSubstr("no column 'plate.height'"));
+    EXPECT_THAT(e.what(), HasSubstr("step, frame, time, dt"));
+  }
+}
+
+TEST(ErrorMeasureRegistry, EveryMeasureIsDocumentedAndBindsItsColumns) {
+  ASSERT_GE(error_measures().size(), 7u);
+  for (const auto& m : error_measures()) {
+    EXPECT_FALSE(m.doc.empty()) << m.name;
+    EXPECT_FALSE(m.reference.empty()) << m.name;
+    EXPECT_EQ(find_error_measure(m.name), &m);
+  }
+  // The fluid's columns come from the scene's fluid instance name.
+  nlohmann::json params = nlohmann::json::object();
+  const nlohmann::json scene = {
+      {"fluid", {{"name", "water"}, {"water", nlohmann::json::object()}}}};
+  EXPECT_EQ(find_error_measure("still_fluid_speed")->bind(params, scene), "");
+  EXPECT_EQ(params["column"], "water.max_speed");
+  // A measure of the fluid in a scene without one says so.
+  params = nlohmann::json::object();
+  EXPECT_THAT(find_error_measure("max_divergence")->bind(params, nlohmann::json::object()),
+              HasSubstr("has no \"fluid\""));
+  EXPECT_EQ(find_error_measure("no_such_measure"), nullptr);
+}
+
+}  // namespace
+}  // namespace shellflow::bench
