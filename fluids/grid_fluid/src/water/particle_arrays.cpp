@@ -4,7 +4,9 @@
 
 namespace shellflow::grid_fluid {
 
-void ParticleArrays::clear() { resize(0); }
+void ParticleArrays::clear() {
+  resize(0);
+}
 
 void ParticleArrays::resize(std::int64_t n) {
   for (int a = 0; a < 3; ++a) {
