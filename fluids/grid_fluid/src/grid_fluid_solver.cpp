@@ -168,9 +168,8 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
       throw ConfigError("/sources",
                         "smoke emitters in a water scene: put water emitters in "
                         "/water/sources");
-    m_liquid =
-        std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up, context.fps,
-                                 m_boundary, context.gravity);
+    m_liquid = std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up,
+                                        context.fps, m_boundary, context.gravity);
   }
   for (size_t i = 0; i < sources.size(); ++i) {
     m_sources.emplace_back(sources[i], "/sources/" + std::to_string(i));
@@ -502,8 +501,9 @@ std::vector<sdk::ParticleView> GridFluid::particles() const {
   const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
   pls.gather(-1, m_nodes, shells, band, m_marker_views[0]);
   pls.gather(+1, m_nodes, shells, band, m_marker_views[1]);
-  return {pls.spray().view("spray"), m_marker_views[0].view("water_particles"),
-          m_marker_views[1].view("air_particles")};
+  pls.gather(-1, m_nodes, shells, band, m_marker_views[2], &m_liquid->level_set());
+  return {pls.spray().view("spray"), m_marker_views[2].view("escaped_water"),
+          m_marker_views[0].view("water_particles"), m_marker_views[1].view("air_particles")};
 }
 
 std::optional<std::string> GridFluid::find_nonfinite() const {

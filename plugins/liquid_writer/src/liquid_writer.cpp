@@ -14,7 +14,9 @@ namespace shellflow::liquid_writer {
 
 namespace {
 
-const std::vector<std::string> kParticleSets{"spray", "water_particles", "air_particles"};
+const std::vector<std::string> kParticleSets{"spray", "escaped_water", "water_particles",
+                                             "air_particles"};
+const std::vector<std::string> kDefaultParticleSets{"spray", "escaped_water"};
 
 /// The strings of the array `params[key]`, each one of `allowed`. @throw ConfigError.
 std::vector<std::string> string_list(const nlohmann::json& params, const std::string& key,
@@ -76,12 +78,15 @@ sdk::Schema LiquidWriter::schema() {
                  "Gaussian filter passes over the level set before meshing (OpenVDB "
                  "LevelSetFilter, 1-voxel radius); each rounds features of about a cell"))
       .field("particles",
-             Schema::array(Schema::string().one_of({"spray", "water_particles", "air_particles"}))
-                 .default_value(Json::array({"spray"}))
+             Schema::array(Schema::string().one_of(
+                               {"spray", "escaped_water", "water_particles", "air_particles"}))
+                 .default_value(Json::array({"spray", "escaped_water"}))
                  .doc("particle sets to write: \"spray\" (water the particle level set removed, "
-                      "flying under gravity until it lands), \"water_particles\" and "
-                      "\"air_particles\" (the marker particles of each sign); needs "
-                      "/fluid/water/particles/per_cell > 0, else the files are empty"))
+                      "flying under gravity until it lands), \"escaped_water\" (water marker "
+                      "particles outside the water by more than their radius: drops the level "
+                      "set does not hold), \"water_particles\" and \"air_particles\" (all "
+                      "marker particles of each sign); needs /fluid/water/particles/per_cell > "
+                      "0, else the files are empty"))
       .field("particle_formats", Schema::array(Schema::string().one_of({"ply", "vdb"}))
                                      .default_value(Json::array({"ply", "vdb"}))
                                      .doc("formats of the particle files; [] writes none"));
@@ -101,7 +106,7 @@ LiquidWriter::LiquidWriter(const nlohmann::json& params, const sdk::Context& /*c
   m_mesh_options.smoothing_iterations = params.value("smoothing", 0);
   if (m_mesh_options.smoothing_iterations < 0 || m_mesh_options.smoothing_iterations > 20)
     throw ConfigError("/smoothing", "must be an integer in [0, 20]");
-  m_particle_sets = string_list(params, "particles", {"spray"}, kParticleSets);
+  m_particle_sets = string_list(params, "particles", kDefaultParticleSets, kParticleSets);
   const auto formats = string_list(params, "particle_formats", {"ply", "vdb"}, {"ply", "vdb"});
   m_particle_ply = has(formats, "ply");
   m_particle_vdb = has(formats, "vdb");

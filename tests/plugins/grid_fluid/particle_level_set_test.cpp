@@ -282,6 +282,20 @@ TEST(ParticleLevelSet, RemovedWaterParticlesFlyAsSprayUntilTheyLand) {
   for (std::int64_t i = 0; i < particles.size(); ++i)
     expected += particles.sign(i) < 0 && particles.position(i).y() - 0.2 > dx ? 1 : 0;
   ASSERT_GT(expected, 100);  // not vacuous
+  // Before adjust(): the escaped water particles (above the surface by more than their
+  // radius) as writers see them, with the node velocity at each.
+  ParticleArrays escaped;
+  particles.gather(-1, nodes, none, nullptr, escaped, &level_set);
+  std::int64_t above_by_radius = 0;
+  for (std::int64_t i = 0; i < particles.size(); ++i)
+    above_by_radius += particles.sign(i) < 0 &&
+                               particles.position(i).y() - 0.2 > particles.radius(i)
+                           ? 1
+                           : 0;
+  EXPECT_EQ(escaped.size(), above_by_radius);
+  EXPECT_GE(escaped.size(), expected);
+  for (std::int64_t i = 0; i < escaped.size(); ++i)
+    EXPECT_NEAR(escaped.u(i).x(), 0.5, 1e-12);  // trilinear weights sum to 1 up to round-off
   particles.adjust(level_set, none);
   const ParticleArrays& spray = particles.spray();
   EXPECT_EQ(spray.size(), expected);

@@ -275,10 +275,22 @@ void ParticleLevelSet::advance_spray(double dt, const ShellGeometry& shells) {
 }
 
 void ParticleLevelSet::gather(int sign, const NodeFields& velocity, const ShellGeometry& shells,
-                              const geometry::ShellBand* band, ParticleArrays& out) const {
+                              const geometry::ShellBand* band, ParticleArrays& out,
+                              const LevelSet* escaped_from) const {
+  std::vector<std::uint8_t> take(static_cast<size_t>(size()), 0);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < size(); ++i) {
+    if (m_sign[i] != sign) continue;
+    if (escaped_from == nullptr) {
+      take[i] = 1;
+    } else {
+      const std::optional<double> value = phi_at(*escaped_from, position(i), shells);
+      take[i] = value && m_sign[i] * *value < -m_radius[i] ? 1 : 0;
+    }
+  }
   std::vector<std::int64_t> chosen;
   for (std::int64_t i = 0; i < size(); ++i)
-    if (m_sign[i] == sign) chosen.push_back(i);
+    if (take[i] != 0) chosen.push_back(i);
   const std::int64_t n = static_cast<std::int64_t>(chosen.size());
   out.resize(n);
   const std::span<const std::uint8_t> in_band =
@@ -458,10 +470,10 @@ void ParticleLevelSet::adjust(const LevelSet& level_set, const ShellGeometry& sh
   const bool velocities = m_u.size() == m_x.size();  // else (just restored) the drop rests
   for (std::int64_t i = 0; i < count; ++i)
     if (to_spray[i] != 0)
-      m_spray.push_back(position(i),
-                        velocities ? Eigen::Vector3d(m_u[i], m_v[i], m_w[i])
-                                   : Eigen::Vector3d::Zero(),
-                        m_radius[i]);
+      m_spray.push_back(
+          position(i),
+          velocities ? Eigen::Vector3d(m_u[i], m_v[i], m_w[i]) : Eigen::Vector3d::Zero(),
+          m_radius[i]);
   m_stats.spray = m_spray.size();
   compact(keep);
   m_stats.seconds += seconds_since(start);

@@ -79,8 +79,10 @@ class GridFluid final : public sdk::FluidSolver {
   void restore(sdk::StateReader& in) override;
   std::vector<sdk::FieldView> fields() const override;
   /// Water with marker particles: "spray" (the removed water particles, flying; see
-  /// ParticleLevelSet), "water_particles" and "air_particles" (the marker particles of each
-  /// sign, with the node velocity at each). Nothing for smoke or without particles.
+  /// ParticleLevelSet), "escaped_water" (water particles outside the water by more than
+  /// their radius: drops the level set does not hold, still marker particles),
+  /// "water_particles" and "air_particles" (the marker particles of each sign); each with
+  /// the node velocity at the particle. Nothing for smoke or without particles.
   std::vector<sdk::ParticleView> particles() const override;
   std::optional<std::string> find_nonfinite() const override;
   void report(sdk::Metrics& out) const override;
@@ -151,8 +153,9 @@ class GridFluid final : public sdk::FluidSolver {
   double m_shell_speed = 0.0;
   StepStats m_stats;
   bool m_logged_coupling = false;
-  /// The marker particles gathered for particles() (water, air): writers' copies.
-  mutable std::array<ParticleArrays, 2> m_marker_views;
+  /// The marker particles gathered for particles() (water, air, escaped water): writers'
+  /// copies.
+  mutable std::array<ParticleArrays, 3> m_marker_views;
 };
 
 }  // namespace shellflow::grid_fluid

@@ -7,7 +7,8 @@
 //   <scene>_<set>_<frame>.ply     each chosen particle set as a point cloud
 //   <scene>_particles_<frame>.vdb the chosen particle sets as OpenVDB point grids
 // (particle_files.hpp). The sets are the fluid's particles(): "spray" (water the particle
-// level set removed, flying ballistically), "water_particles", "air_particles" (the
+// level set removed, flying ballistically), "escaped_water" (water marker particles
+// outside the water by more than their radius), "water_particles", "air_particles" (all
 // marker particles). A fluid without a level set "phi" (smoke) or a scene without a fluid
 // writes nothing; a fluid without particles writes empty particle files.
 

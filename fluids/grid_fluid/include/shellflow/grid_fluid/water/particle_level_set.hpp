@@ -90,9 +90,12 @@ class ParticleLevelSet {
   const ParticleArrays& spray() const { return m_spray; }
   /// The particles of sign `sign` (−1 water, +1 air) with the node velocity at each (the
   /// object's velocity standing in for nodes a particle does not see, rays cast only for
-  /// particles in `band`; may be null), into `out` (replaced).
+  /// particles in `band`; may be null), into `out` (replaced). With `escaped_from`, only
+  /// those on the wrong side of its surface by more than their radius (escaped, as
+  /// correct() finds them): water the level set does not hold.
   void gather(int sign, const NodeFields& velocity, const ShellGeometry& shells,
-              const geometry::ShellBand* band, ParticleArrays& out) const;
+              const geometry::ShellBand* band, ParticleArrays& out,
+              const LevelSet* escaped_from = nullptr) const;
 
   /// Fills the band about φ's surface (the start of a run).
   void seed(const LevelSet& phi, const ShellGeometry& shells);
