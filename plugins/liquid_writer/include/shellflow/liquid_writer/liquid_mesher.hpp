@@ -17,16 +17,19 @@
 // each quad joins the vertices of the four cells about such an edge, a block that no shell
 // touches, and lies inside it. Hence no triangle meets a shell. With adaptivity, the cells
 // within two cells of a touched cell are kept from merging (VolumeToMesh's adaptivity
-// mask), so the quads near shells are those of the uniform mesh.
+// mask), so that the cells next to shells keep their own vertices; the argument is the
+// uniform mesh's, and the tests check adaptivity 0.5 and 1 on a plate and the dam.
 // The water ends within a cell of each shell: the crossing next to a τ node lies at that
 // node to within τ/|φ| of a cell, on the faces of the touched cells. On the box's faces
 // the mesh closes: it is a closed surface.
 // Smoothing (optional) filters φ first (OpenVDB LevelSetFilter, Gaussian), so it cannot
 // undo the clipping.
 //
-// Error: a smooth closed surface of curvature radius R meshed at Δx ≪ R: vertices lie on
-// the trilinear interpolant's zero set, within O(Δx²/R) of the surface for an exact signed
-// distance; area and enclosed volume converge at O(Δx²) (liquid_mesher_test measures it).
+// Error: a smooth closed surface of curvature radius R meshed at Δx ≪ R from its exact
+// signed distance: the edge crossings lie on it to O(Δx²/R), a vertex (their mean) inside
+// it by about 0.4Δx²/R; area and enclosed volume are short by O((Δx/R)²) relative
+// (liquid_mesher_test: 0.6 and 1.1 (Δx/R)² for a sphere). Edges and corners of the water
+// are bevelled by about a cell.
 
 #include <cstdint>
 
