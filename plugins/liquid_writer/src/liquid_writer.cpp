@@ -72,7 +72,8 @@ sdk::Schema LiquidWriter::schema() {
              Schema::number(0.0).min(0.0).max(1.0).doc(
                  "OpenVDB's mesh adaptivity: 0 one vertex per cell the surface crosses, up to "
                  "1 flat regions merged into ever larger polygons (never within two cells of a "
-                 "shell)"))
+                 "shell); small values already merge much (a sphere 19 cells in radius: 6920 "
+                 "vertices at 0, 587 at 0.05, 158 at 0.2)"))
       .field("smoothing",
              Schema::integer(0).min(0).max(20).unit("passes").doc(
                  "Gaussian filter passes over the level set before meshing (OpenVDB "
