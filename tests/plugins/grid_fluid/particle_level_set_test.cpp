@@ -306,6 +306,18 @@ TEST(ParticleLevelSet, RemovedWaterParticlesFlyAsSprayUntilTheyLand) {
     EXPECT_NEAR((spray.u(i) - Eigen::Vector3d(0.5, 0.0, 0.0)).norm(), 0.0, kRoundOff);
     EXPECT_GT(spray.radius[i], 0.0);
   }
+  {  // The drops are state: saved and restored with the particles, bit for bit.
+    sdk::StateBuffer saved;
+    sdk::StateWriter writer(saved);
+    particles.save(writer);
+    ParticleLevelSet copy({{"per_cell", 8}, {"reseed_every", 10}, {"seed", 0}}, grid, 24.0,
+                          gravity);
+    sdk::StateReader reader(saved);
+    copy.restore(reader);
+    EXPECT_EQ(copy.spray().position, spray.position);
+    EXPECT_EQ(copy.spray().velocity, spray.velocity);
+    EXPECT_EQ(copy.spray().radius, spray.radius);
+  }
   const std::vector<double> y0 = spray.position[1], x0 = spray.position[0];
   particles.advect(nodes, dt, none, nullptr);
   // Drops that would pass x = 1 have left the domain; the others keep their order.
