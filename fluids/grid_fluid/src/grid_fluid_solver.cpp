@@ -169,9 +169,8 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
       throw ConfigError("/sources",
                         "smoke emitters in a water scene: put water emitters in "
                         "/water/sources");
-    m_liquid =
-        std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up, context.fps,
-                                 m_boundary);
+    m_liquid = std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up,
+                                        context.fps, m_boundary, context.gravity);
   }
   for (size_t i = 0; i < sources.size(); ++i) {
     m_sources.emplace_back(sources[i], "/sources/" + std::to_string(i));
@@ -495,6 +494,20 @@ std::vector<sdk::FieldView> GridFluid::fields() const {
   return out;
 }
 
+std::vector<sdk::ParticleView> GridFluid::particles() const {
+  if (!m_liquid || !m_liquid->particles().enabled()) return {};
+  const ParticleLevelSet& pls = m_liquid->particles();
+  // The shells at the end of the last step are those the nodes were last transferred with.
+  static const ShellGeometry none;
+  const ShellGeometry& shells = m_geometry_np1 ? *m_geometry_np1 : none;
+  const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
+  pls.gather(-1, m_nodes, shells, band, m_marker_views[0]);
+  pls.gather(+1, m_nodes, shells, band, m_marker_views[1]);
+  pls.gather(-1, m_nodes, shells, band, m_marker_views[2], &m_liquid->level_set());
+  return {pls.spray().view("spray"), m_marker_views[2].view("escaped_water"),
+          m_marker_views[0].view("water_particles"), m_marker_views[1].view("air_particles")};
+}
+
 std::optional<std::string> GridFluid::find_nonfinite() const {
   const auto scan = [](const std::vector<double>& v) -> std::int64_t {
     for (size_t i = 0; i < v.size(); ++i)
@@ -572,6 +585,7 @@ void GridFluid::report(sdk::Metrics& out) const {
       out.set("particles_deleted_at_shells", static_cast<double>(q.deleted_at_shells));
       out.set("particles_removed", static_cast<double>(q.removed));
       out.set("particles_reseeded", static_cast<double>(q.reseeded));
+      out.set("particles_spray", static_cast<double>(q.spray));
       out.set("t_particles", q.seconds);
     }
   } else {

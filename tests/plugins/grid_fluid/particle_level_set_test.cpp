@@ -277,5 +277,93 @@ TEST(ParticleLevelSet, SaveAndRestoreGiveTheSameRunBitForBit) {
   EXPECT_EQ(phi, fluid->liquid()->level_set().phi());
 }
 
+
+TEST(ParticleLevelSet, RemovedWaterParticlesFlyAsSprayUntilTheyLand) {
+  // Water below y = 0.5 (16^3) seeded with particles, one step at u = (0.5, 0, 0); then the
+  // surface is dropped to y = 0.2: every water particle now more than Δx above it is removed
+  // from the level set and becomes a spray drop with its path's velocity. A step later each
+  // drop has fallen freely (exact for constant gravity); when the water rises over them,
+  // they have all landed.
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i::Constant(16));
+  const double dx = grid.dx();
+  const Eigen::Vector3d gravity(0.0, -9.81, 0.0);
+  ParticleLevelSet particles({{"per_cell", 8}, {"reseed_every", 10}, {"seed", 0}}, grid, 24.0,
+                             gravity);
+  LevelSet level_set(grid, 6.0 * dx);
+  const auto fill = [&](double surface) {
+    auto& phi = level_set.phi();
+    for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i)
+      phi[i] = std::clamp(grid.position(Location::Node, i).y() - surface, -level_set.band(),
+                          level_set.band());
+  };
+  fill(0.5);
+  const ShellGeometry none;
+  particles.seed(level_set, none);
+  NodeFields nodes(grid, 0.0, false);
+  std::fill(nodes.velocity(0).begin(), nodes.velocity(0).end(), 0.5);
+  const double dt = 0.01;
+  particles.advect(nodes, dt, none, nullptr);
+  fill(0.2);
+  std::int64_t expected = 0;  // water particles more than Δx above the new surface
+  for (std::int64_t i = 0; i < particles.size(); ++i)
+    expected += particles.sign(i) < 0 && particles.position(i).y() - 0.2 > dx ? 1 : 0;
+  ASSERT_GT(expected, 100);  // not vacuous
+  // Before adjust(): the escaped water particles (above the surface by more than their
+  // radius) as writers see them, with the node velocity at each.
+  ParticleArrays escaped;
+  particles.gather(-1, nodes, none, nullptr, escaped, &level_set);
+  std::int64_t above_by_radius = 0;
+  for (std::int64_t i = 0; i < particles.size(); ++i)
+    above_by_radius += particles.sign(i) < 0 &&
+                               particles.position(i).y() - 0.2 > particles.radius(i)
+                           ? 1
+                           : 0;
+  EXPECT_EQ(escaped.size(), above_by_radius);
+  EXPECT_GE(escaped.size(), expected);
+  for (std::int64_t i = 0; i < escaped.size(); ++i)
+    EXPECT_NEAR(escaped.u(i).x(), 0.5, 1e-12);  // trilinear weights sum to 1 up to round-off
+  particles.adjust(level_set, none);
+  const ParticleArrays& spray = particles.spray();
+  EXPECT_EQ(spray.size(), expected);
+  EXPECT_EQ(particles.stats().removed, expected);
+  // The path's velocity is the trilinear node velocity, uniform: exact to round-off.
+  constexpr double kRoundOff = 1e-12;
+  for (std::int64_t i = 0; i < spray.size(); ++i) {
+    EXPECT_NEAR((spray.u(i) - Eigen::Vector3d(0.5, 0.0, 0.0)).norm(), 0.0, kRoundOff);
+    EXPECT_GT(spray.radius[i], 0.0);
+  }
+  {  // The drops are state: saved and restored with the particles, bit for bit.
+    sdk::StateBuffer saved;
+    sdk::StateWriter writer(saved);
+    particles.save(writer);
+    ParticleLevelSet copy({{"per_cell", 8}, {"reseed_every", 10}, {"seed", 0}}, grid, 24.0,
+                          gravity);
+    sdk::StateReader reader(saved);
+    copy.restore(reader);
+    EXPECT_EQ(copy.spray().position, spray.position);
+    EXPECT_EQ(copy.spray().velocity, spray.velocity);
+    EXPECT_EQ(copy.spray().radius, spray.radius);
+  }
+  const std::vector<double> y0 = spray.position[1], x0 = spray.position[0];
+  particles.advect(nodes, dt, none, nullptr);
+  // Drops that would pass x = 1 have left the domain; the others keep their order.
+  std::int64_t flying = 0;
+  for (std::int64_t i = 0; i < expected; ++i) {
+    if (x0[i] + 0.5 * dt > 1.0) continue;
+    ASSERT_LT(flying, spray.size());
+    EXPECT_NEAR(spray.position[0][flying], x0[i] + 0.5 * dt, kRoundOff);
+    EXPECT_NEAR(spray.position[1][flying], y0[i] - 0.5 * 9.81 * dt * dt, kRoundOff);
+    EXPECT_NEAR(spray.velocity[1][flying], -9.81 * dt, kRoundOff);
+    ++flying;
+  }
+  EXPECT_EQ(spray.size(), flying);
+  EXPECT_EQ(particles.stats().landed, expected - flying);
+  ASSERT_GT(flying, 100);
+  fill(0.95);  // the water rises over every drop
+  particles.adjust(level_set, none);
+  EXPECT_EQ(particles.spray().size(), 0);
+  EXPECT_EQ(particles.stats().landed, expected);
+}
+
 }  // namespace
 }  // namespace shellflow::grid_fluid

@@ -51,12 +51,13 @@ sdk::Schema Liquid::schema() {
 }
 
 Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
-               const Eigen::Vector3d& up, double fps, const DomainBoundary& boundary)
+               const Eigen::Vector3d& up, double fps, const DomainBoundary& boundary,
+               const Eigen::Vector3d& gravity)
     : m_level_set(grid, params.at("band").get<double>() * grid.dx()),
       m_advector(grid, params.at("advection").get<std::string>() == "maccormack"),
       m_fast_marching(grid),
       m_extrapolation(grid),
-      m_particles(params.at("particles"), grid, fps) {
+      m_particles(params.at("particles"), grid, fps, gravity) {
   const double band = params.at("band").get<double>();
   const double width = params.at("extrapolation").get<double>();
   if (!(width < band))

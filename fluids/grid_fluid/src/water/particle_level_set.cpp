@@ -51,8 +51,8 @@ sdk::Schema ParticleLevelSet::schema() {
 }
 
 ParticleLevelSet::ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& grid,
-                                   double fps)
-    : m_grid(grid), m_sampler(grid) {
+                                   double fps, const Eigen::Vector3d& gravity)
+    : m_grid(grid), m_sampler(grid), m_gravity(gravity) {
   m_per_cell = params.at("per_cell").get<int>();
   m_reseed_every = params.at("reseed_every").get<int>();
   m_seed = params.at("seed").get<std::uint64_t>();
@@ -102,6 +102,7 @@ std::int64_t ParticleLevelSet::cell_of(std::int64_t i) const {
 
 void ParticleLevelSet::compact(const std::vector<std::uint8_t>& keep) {
   const bool paths = m_x0.size() == m_x.size();  // start positions kept in step with them
+  const bool velocities = m_u.size() == m_x.size();
   size_t out = 0;
   for (size_t i = 0; i < m_x.size(); ++i) {
     if (keep[i] == 0) continue;
@@ -116,11 +117,18 @@ void ParticleLevelSet::compact(const std::vector<std::uint8_t>& keep) {
       m_y0[out] = m_y0[i];
       m_z0[out] = m_z0[i];
     }
+    if (velocities) {
+      m_u[out] = m_u[i];
+      m_v[out] = m_v[i];
+      m_w[out] = m_w[i];
+    }
     ++out;
   }
   for (auto* v : {&m_x, &m_y, &m_z, &m_radius, &m_collision}) v->resize(out);
   if (paths)
     for (auto* v : {&m_x0, &m_y0, &m_z0}) v->resize(out);
+  if (velocities)
+    for (auto* v : {&m_u, &m_v, &m_w}) v->resize(out);
   m_sign.resize(out);
 }
 
@@ -239,15 +247,78 @@ bool ParticleLevelSet::stop_at_shells(std::int64_t i, const ShellGeometry& shell
   return true;
 }
 
+void ParticleLevelSet::advance_spray(double dt, const ShellGeometry& shells) {
+  const std::int64_t count = m_spray.size();
+  if (count == 0) return;
+  const Eigen::Vector3d lower = m_grid.origin(), upper = m_grid.upper();
+  std::vector<std::uint8_t> flying(static_cast<size_t>(count), 1);
+  std::int64_t landed = 0;
+#pragma omp parallel for schedule(static) reduction(+ : landed)
+  for (std::int64_t i = 0; i < count; ++i) {
+    const Eigen::Vector3d x = m_spray.x(i), u = m_spray.u(i);
+    // Exact for constant gravity: free fall between steps.
+    const Eigen::Vector3d x1 = x + dt * u + 0.5 * dt * dt * m_gravity;
+    const Eigen::Vector3d u1 = u + dt * m_gravity;
+    const bool inside = (x1.array() >= lower.array()).all() && (x1.array() <= upper.array()).all();
+    if (!inside || (!shells.empty() && shells.first_hit(x, x1))) {
+      flying[i] = 0;  // left the domain, or landed on a shell
+      ++landed;
+      continue;
+    }
+    for (int a = 0; a < 3; ++a) {
+      m_spray.position[a][i] = x1[a];
+      m_spray.velocity[a][i] = u1[a];
+    }
+  }
+  if (landed > 0) m_spray.keep(flying);
+  m_stats.landed += landed;
+}
+
+void ParticleLevelSet::gather(int sign, const NodeFields& velocity, const ShellGeometry& shells,
+                              const geometry::ShellBand* band, ParticleArrays& out,
+                              const LevelSet* escaped_from) const {
+  std::vector<std::uint8_t> take(static_cast<size_t>(size()), 0);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < size(); ++i) {
+    if (m_sign[i] != sign) continue;
+    if (escaped_from == nullptr) {
+      take[i] = 1;
+    } else {
+      const std::optional<double> value = phi_at(*escaped_from, position(i), shells);
+      take[i] = value && m_sign[i] * *value < -m_radius[i] ? 1 : 0;
+    }
+  }
+  std::vector<std::int64_t> chosen;
+  for (std::int64_t i = 0; i < size(); ++i)
+    if (take[i] != 0) chosen.push_back(i);
+  const std::int64_t n = static_cast<std::int64_t>(chosen.size());
+  out.resize(n);
+  const std::span<const std::uint8_t> in_band =
+      band && !shells.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
+#pragma omp parallel for schedule(static)
+  for (std::int64_t s = 0; s < n; ++s) {
+    const Eigen::Vector3d x = position(chosen[s]);
+    const bool rays = !in_band.empty() && in_band[node_stencil(m_grid, x).corner(m_grid, 0)] != 0;
+    const Eigen::Vector3d u = velocity_at(velocity, x, shells, rays);
+    for (int a = 0; a < 3; ++a) {
+      out.position[a][s] = x[a];
+      out.velocity[a][s] = u[a];
+    }
+    out.radius[s] = m_radius[chosen[s]];
+  }
+}
+
 void ParticleLevelSet::advect(const NodeFields& velocity, double dt, const ShellGeometry& shells_n,
                               const geometry::ShellBand* band) {
   if (!enabled()) return;
   const auto start = std::chrono::steady_clock::now();
   m_stats = ParticleStats{};
+  advance_spray(dt, shells_n);
   const std::int64_t count = size();
   m_x0 = m_x;
   m_y0 = m_y;
   m_z0 = m_z;
+  for (auto* v : {&m_u, &m_v, &m_w}) v->resize(count);
   const std::span<const std::uint8_t> in_band =
       band && !shells_n.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
   const Eigen::Vector3d lower = m_grid.origin(), upper = m_grid.upper();
@@ -265,7 +336,11 @@ void ParticleLevelSet::advect(const NodeFields& velocity, double dt, const Shell
     Eigen::Vector3d x1 = (x + dt * u1).cwiseMax(lower).cwiseMin(upper);
     if (rays) x1 = shells_n.clip(x, x1, shells_n.epsilon());
     const Eigen::Vector3d u2 = sample(x1);
-    const Eigen::Vector3d x2 = (x + 0.5 * dt * (u1 + u2)).cwiseMax(lower).cwiseMin(upper);
+    const Eigen::Vector3d u = 0.5 * (u1 + u2);
+    const Eigen::Vector3d x2 = (x + dt * u).cwiseMax(lower).cwiseMin(upper);
+    m_u[i] = u.x();
+    m_v[i] = u.y();
+    m_w[i] = u.z();
     m_x[i] = x2.x();
     m_y[i] = x2.y();
     m_z[i] = x2.z();
@@ -354,8 +429,24 @@ std::int64_t ParticleLevelSet::correct(LevelSet& level_set, const ShellGeometry&
 void ParticleLevelSet::adjust(const LevelSet& level_set, const ShellGeometry& shells) {
   if (!enabled()) return;
   const auto start = std::chrono::steady_clock::now();
+  {
+    // Spray drops back in water have landed.
+    std::vector<std::uint8_t> flying(static_cast<size_t>(m_spray.size()), 1);
+    std::int64_t landed = 0;
+#pragma omp parallel for schedule(static) reduction(+ : landed)
+    for (std::int64_t i = 0; i < m_spray.size(); ++i) {
+      const std::optional<double> value = phi_at(level_set, m_spray.x(i), shells);
+      if (value && *value <= 0.0) {
+        flying[i] = 0;
+        ++landed;
+      }
+    }
+    if (landed > 0) m_spray.keep(flying);
+    m_stats.landed += landed;
+  }
   const std::int64_t count = size();
   std::vector<std::uint8_t> keep(count, 1);
+  std::vector<std::uint8_t> to_spray(count, 0);
   std::int64_t removed = 0;
 #pragma omp parallel for schedule(static) reduction(+ : removed)
   for (std::int64_t i = 0; i < count; ++i) {
@@ -370,11 +461,20 @@ void ParticleLevelSet::adjust(const LevelSet& level_set, const ShellGeometry& sh
       // hold it. An air particle is dropped, a water particle removed as spray.
       keep[i] = 0;
       removed += m_sign[i] < 0 ? 1 : 0;
+      to_spray[i] = m_sign[i] < 0 ? 1 : 0;
     } else {
       m_radius[i] = std::clamp(signed_distance, m_r_min, m_r_max);
     }
   }
   m_stats.removed += removed;
+  const bool velocities = m_u.size() == m_x.size();  // else (just restored) the drop rests
+  for (std::int64_t i = 0; i < count; ++i)
+    if (to_spray[i] != 0)
+      m_spray.push_back(
+          position(i),
+          velocities ? Eigen::Vector3d(m_u[i], m_v[i], m_w[i]) : Eigen::Vector3d::Zero(),
+          m_radius[i]);
+  m_stats.spray = m_spray.size();
   compact(keep);
   m_stats.seconds += seconds_since(start);
 }
@@ -402,6 +502,7 @@ void ParticleLevelSet::save(sdk::StateWriter& out) const {
   Eigen::Matrix<std::int8_t, Eigen::Dynamic, 1> sign =
       Eigen::Map<const Eigen::Matrix<std::int8_t, Eigen::Dynamic, 1>>(m_sign.data(), m_sign.size());
   out.write_matrix(sign);
+  m_spray.save(out);
 }
 
 void ParticleLevelSet::restore(sdk::StateReader& in) {
@@ -419,6 +520,8 @@ void ParticleLevelSet::restore(sdk::StateReader& in) {
   if (m_sign.size() != m_x.size())
     throw Error("grid_fluid restore(): the saved particles are inconsistent");
   m_x0.clear();
+  for (auto* v : {&m_u, &m_v, &m_w}) v->clear();
+  m_spray.restore(in);
 }
 
 }  // namespace shellflow::grid_fluid

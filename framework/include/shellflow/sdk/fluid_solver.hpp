@@ -3,6 +3,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <string>
@@ -25,6 +26,16 @@ struct FieldView {
   int components = 1;               ///< 1 (scalar) or 3 (vector, structure of arrays)
   /// Component c of sample (i,j,k) is data[c][i + dims[0]*(j + dims[1]*k)].
   std::array<const double*, 3> data{nullptr, nullptr, nullptr};
+};
+
+/// A read-only view of one set of particles (spray, marker particles), for writers: `count`
+/// particles as flat arrays, one per coordinate (structure of arrays).
+struct ParticleView {
+  std::string name;        ///< "spray", "water_particles", "air_particles", ...
+  std::int64_t count = 0;
+  std::array<const double*, 3> position{nullptr, nullptr, nullptr};  ///< [m]
+  std::array<const double*, 3> velocity{nullptr, nullptr, nullptr};  ///< [m/s]
+  const double* radius = nullptr;                                    ///< [m]
 };
 
 /// One module of a run plan: what a scene turns on or leaves off, and why (run.json).
@@ -60,6 +71,9 @@ class FluidSolver {
 
   /// Fields for writers (VDB, previews); views stay valid until the next step.
   virtual std::vector<FieldView> fields() const { return {}; }
+
+  /// Particle sets for writers (see ParticleView); views stay valid until the next step.
+  virtual std::vector<ParticleView> particles() const { return {}; }
 
   /// Describes the first non-finite value found (field, index), or nothing.
   virtual std::optional<std::string> find_nonfinite() const { return std::nullopt; }

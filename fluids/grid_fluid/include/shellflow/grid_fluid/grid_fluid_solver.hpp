@@ -79,6 +79,12 @@ class GridFluid final : public sdk::FluidSolver {
   void save(sdk::StateWriter& out) const override;
   void restore(sdk::StateReader& in) override;
   std::vector<sdk::FieldView> fields() const override;
+  /// Water with marker particles: "spray" (the removed water particles, flying; see
+  /// ParticleLevelSet), "escaped_water" (water particles outside the water by more than
+  /// their radius: drops the level set does not hold, still marker particles),
+  /// "water_particles" and "air_particles" (the marker particles of each sign); each with
+  /// the node velocity at the particle. Nothing for smoke or without particles.
+  std::vector<sdk::ParticleView> particles() const override;
   std::optional<std::string> find_nonfinite() const override;
   void report(sdk::Metrics& out) const override;
   std::vector<sdk::PlanEntry> plan() const override;
@@ -149,6 +155,9 @@ class GridFluid final : public sdk::FluidSolver {
   double m_shell_speed = 0.0;
   StepStats m_stats;
   bool m_logged_coupling = false;
+  /// The marker particles gathered for particles() (water, air, escaped water): writers'
+  /// copies.
+  mutable std::array<ParticleArrays, 3> m_marker_views;
 };
 
 }  // namespace shellflow::grid_fluid

@@ -46,9 +46,10 @@ class Liquid {
  public:
   /// The "water" block of the scene (schema()); `up` the pools' up direction, `fps` the
   /// scene's frame rate (the particles' reseeding), `boundary` the domain's sides (its
-  /// walls for the cells' φ, LevelSet::cell_values).
+  /// walls for the cells' φ, LevelSet::cell_values), `gravity` what the spray falls under.
   Liquid(const nlohmann::json& params, const grid::UniformGrid& grid, const Eigen::Vector3d& up,
-         double fps, const DomainBoundary& boundary = DomainBoundary());
+         double fps, const DomainBoundary& boundary = DomainBoundary(),
+         const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero());
   static sdk::Schema schema();
 
   const LevelSet& level_set() const { return m_level_set; }

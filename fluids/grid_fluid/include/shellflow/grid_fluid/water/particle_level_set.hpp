@@ -18,8 +18,8 @@
 //              §3.3); before and after reinitialisation
 //   adjust()   radii to s φ(x) clamped to [0.1Δx, 0.5Δx]; particles deeper than the seeding
 //              band deleted; water particles still more than Δx beyond the surface after
-//              the second correction are removed (spray the grid cannot hold; counted,
-//              not yet kept as spray particles). Escaped
+//              the second correction are removed from the level set: spray the grid
+//              cannot hold (counted as `removed`, and kept as spray drops, below). Escaped
 //              particles nearer than that are kept: removing every particle escaped by
 //              more than its radius, as a first version did, removed nearly all of them
 //              after one correction (a correction leaves φ at the particle near
@@ -30,6 +30,11 @@
 //              from φ as seen from them, §4.4.2), cells holding more than twice lose the
 //              excess; the cells about an emitter that is on are topped up every step,
 //              and the air particles its water now covers are dropped
+// Spray (for writers; it never acts on φ or the velocity): a removed water particle
+// becomes a ballistic drop with the velocity of its last path and its radius, moved in
+// advect() by x += Δt u + ½Δt² g, u += Δt g, and deleted when its path meets a shell at n
+// or leaves the domain (advect()) or it is back in water, φ <= 0 as seen from it
+// (adjust()): it has landed. Its water is not given back to the level set.
 // φ at a particle is read as at a semi-Lagrangian base point (LevelSetAdvector::
 // sample_visible), its velocity from the 8 nodes of its cell with the object's velocity
 // standing in for nodes it does not see (§4.1). Attributes are flat arrays, one per
@@ -46,6 +51,7 @@
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
 #include "shellflow/grid_fluid/water/level_set_advector.hpp"
+#include "shellflow/grid_fluid/water/particle_arrays.hpp"
 #include "shellflow/sdk/schema.hpp"
 #include "shellflow/sdk/state_buffer.hpp"
 
@@ -60,13 +66,17 @@ struct ParticleStats {
   std::int64_t deleted_at_shells = 0;  ///< particles whose path crossed a shell, deleted
   std::int64_t removed = 0;            ///< water particles removed as escaped (spray)
   std::int64_t reseeded = 0;           ///< particles added by seeding this step
+  std::int64_t spray = 0;              ///< spray drops in flight after the step
+  std::int64_t landed = 0;             ///< spray drops deleted this step (landed or left)
   double seconds = 0.0;                ///< wall time of the particle phases
 };
 
 class ParticleLevelSet {
  public:
-  /// The "particles" block of the water (schema()); `fps` the scene's frame rate.
-  ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& grid, double fps);
+  /// The "particles" block of the water (schema()); `fps` the scene's frame rate;
+  /// `gravity` [m/s^2] what the spray falls under.
+  ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& grid, double fps,
+                   const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero());
   static sdk::Schema schema();
 
   bool enabled() const { return m_per_cell > 0; }
@@ -76,6 +86,16 @@ class ParticleLevelSet {
   Eigen::Vector3d position(std::int64_t i) const { return {m_x[i], m_y[i], m_z[i]}; }
   int sign(std::int64_t i) const { return m_sign[i]; }
   double radius(std::int64_t i) const { return m_radius[i]; }
+  /// The spray drops in flight (see the file's comment).
+  const ParticleArrays& spray() const { return m_spray; }
+  /// The particles of sign `sign` (−1 water, +1 air) with the node velocity at each (the
+  /// object's velocity standing in for nodes a particle does not see, rays cast only for
+  /// particles in `band`; may be null), into `out` (replaced). With `escaped_from`, only
+  /// those on the wrong side of its surface by more than their radius (escaped, as
+  /// correct() finds them): water the level set does not hold.
+  void gather(int sign, const NodeFields& velocity, const ShellGeometry& shells,
+              const geometry::ShellBand* band, ParticleArrays& out,
+              const LevelSet* escaped_from = nullptr) const;
 
   /// Fills the band about φ's surface (the start of a run).
   void seed(const LevelSet& phi, const ShellGeometry& shells);
@@ -108,8 +128,11 @@ class ParticleLevelSet {
   /// `top_up`: first trims cells holding more than twice per_cell.
   void seed_cells(const LevelSet& phi, const ShellGeometry& shells, bool top_up,
                   const grid::IndexBox* within);
-  /// Keeps the particles with keep[i] != 0, in order (and their start positions while
-  /// those are kept in step).
+  /// Moves the spray drops ballistically over dt; deletes those whose path meets a shell
+  /// or leaves the domain.
+  void advance_spray(double dt, const ShellGeometry& shells);
+  /// Keeps the particles with keep[i] != 0, in order (and their start positions and path
+  /// velocities while those are kept in step).
   void compact(const std::vector<std::uint8_t>& keep);
   std::int64_t cell_of(std::int64_t i) const;
 
@@ -127,6 +150,9 @@ class ParticleLevelSet {
   std::vector<double> m_x, m_y, m_z, m_radius, m_collision;
   std::vector<std::int8_t> m_sign;
   std::vector<double> m_x0, m_y0, m_z0;  ///< positions at the start of the step
+  std::vector<double> m_u, m_v, m_w;     ///< velocity of the last path (the spray's start)
+  Eigen::Vector3d m_gravity = Eigen::Vector3d::Zero();
+  ParticleArrays m_spray;
   std::vector<double> m_plus, m_minus;   ///< correction scratch, per node (touched only)
   std::vector<std::uint8_t> m_touched;
   ParticleStats m_stats;

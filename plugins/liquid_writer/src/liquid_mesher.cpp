@@ -1,0 +1,219 @@
+#include "shellflow/liquid_writer/liquid_mesher.hpp"
+
+#include <openvdb/openvdb.h>
+#include <openvdb/tools/LevelSetFilter.h>
+#include <openvdb/tools/VolumeToMesh.h>
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <mutex>
+#include <vector>
+
+#include "shellflow/liquid_writer/shell_cells.hpp"
+#include "shellflow/sdk/error.hpp"
+
+namespace shellflow::liquid_writer {
+
+namespace {
+
+/// τ / Δx: the value, in cells, of a node made air (see liquid_mesher.hpp).
+constexpr double kClippedValue = 1e-3;
+/// OpenVDB's usual narrow-band half-width (LEVEL_SET_HALF_WIDTH) [voxels].
+constexpr double kHalfWidth = 3.0;
+/// Cells about a touched cell kept from merging when adaptive [cells].
+constexpr int kUnmergedRing = 2;
+
+void initialize_openvdb_once() {
+  static std::once_flag flag;
+  std::call_once(flag, [] { openvdb::initialize(); });
+}
+
+size_t node_index(const std::array<int, 3>& dims, int i, int j, int k) {
+  return static_cast<size_t>(i) +
+         static_cast<size_t>(dims[0]) * (static_cast<size_t>(j) + static_cast<size_t>(dims[1]) * k);
+}
+
+void check_fields(const sdk::FieldView& phi, const sdk::FieldView* velocity) {
+  if (phi.components != 1 || phi.data[0] == nullptr || !(phi.dx > 0.0) || phi.dims[0] < 1 ||
+      phi.dims[1] < 1 || phi.dims[2] < 1)
+    throw Error("liquid_writer: the fluid's level set \"" + phi.name +
+                "\" is not a non-empty one-component grid with dx > 0");
+  if (velocity == nullptr) return;
+  if (velocity->components != 3 || velocity->dims != phi.dims || velocity->dx != phi.dx ||
+      !velocity->origin.isApprox(phi.origin) || velocity->data[0] == nullptr ||
+      velocity->data[1] == nullptr || velocity->data[2] == nullptr)
+    throw Error(
+        "liquid_writer: the fluid's velocity is not a three-component field on the "
+        "level set's nodes");
+}
+
+/// Trilinear value of component c of a node field at x, coordinates clamped to the box.
+double trilinear(const sdk::FieldView& field, int c, const Eigen::Vector3d& x) {
+  int base[3];
+  double w[3];
+  for (int a = 0; a < 3; ++a) {
+    const double f = std::clamp((x[a] - field.origin[a]) / field.dx, 0.0,
+                                static_cast<double>(field.dims[a] - 1));
+    base[a] = std::min(static_cast<int>(f), std::max(field.dims[a] - 2, 0));
+    w[a] = field.dims[a] > 1 ? f - base[a] : 0.0;
+  }
+  double value = 0.0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const int di = corner & 1, dj = (corner >> 1) & 1, dk = corner >> 2;
+    const double weight =
+        (di ? w[0] : 1.0 - w[0]) * (dj ? w[1] : 1.0 - w[1]) * (dk ? w[2] : 1.0 - w[2]);
+    if (weight == 0.0) continue;
+    value +=
+        weight * field.data[c][node_index(field.dims, base[0] + di, base[1] + dj, base[2] + dk)];
+  }
+  return value;
+}
+
+/// ψ as a narrow-band level set (Museth 2013): voxel (i,j,k) is node (i,j,k); |ψ| below
+/// the half-width active, deeper water inactive at −background, the rest air.
+openvdb::FloatGrid::Ptr level_set_grid(const std::vector<double>& psi, const sdk::FieldView& phi) {
+  const double dx = phi.dx;
+  const float background = static_cast<float>(kHalfWidth * dx);
+  auto grid = openvdb::FloatGrid::create(background);
+  auto transform = openvdb::math::Transform::createLinearTransform(dx);
+  transform->postTranslate(openvdb::Vec3d(phi.origin.x(), phi.origin.y(), phi.origin.z()));
+  grid->setTransform(transform);
+  grid->setGridClass(openvdb::GRID_LEVEL_SET);
+  auto accessor = grid->getAccessor();
+  const auto& dims = phi.dims;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i) {
+        const float value = static_cast<float>(psi[node_index(dims, i, j, k)]);
+        if (std::abs(value) < background)
+          accessor.setValueOn(openvdb::Coord(i, j, k), value);
+        else if (value < 0.0f)
+          accessor.setValueOff(openvdb::Coord(i, j, k), -background);
+      }
+  openvdb::tools::prune(grid->tree());
+  return grid;
+}
+
+/// φ after `iterations` Gaussian passes (OpenVDB LevelSetFilter, which keeps it a signed
+/// distance), read back at the nodes.
+std::vector<double> smoothed(std::vector<double> psi, const sdk::FieldView& phi, int iterations) {
+  auto grid = level_set_grid(psi, phi);
+  openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
+  for (int n = 0; n < iterations; ++n) filter.gaussian(1);
+  auto accessor = grid->getConstAccessor();
+  const auto& dims = phi.dims;
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        psi[node_index(dims, i, j, k)] = accessor.getValue(openvdb::Coord(i, j, k));
+  return psi;
+}
+
+}  // namespace
+
+LiquidMesh mesh_liquid(const sdk::FieldView& phi, const sdk::FieldView* velocity,
+                       sdk::ShellSet shells, const LiquidMeshOptions& options) {
+  check_fields(phi, velocity);
+  initialize_openvdb_once();
+  const auto& dims = phi.dims;
+  const size_t count = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
+  std::vector<double> psi(phi.data[0], phi.data[0] + count);
+  if (options.smoothing_iterations > 0)
+    psi = smoothed(std::move(psi), phi, options.smoothing_iterations);
+
+  // The water ends at the box's faces and at the cells the shells touch.
+  LiquidMesh mesh;
+  const double tau = kClippedValue * phi.dx;
+  const auto clip = [&](int i, int j, int k) {
+    double& value = psi[node_index(dims, i, j, k)];
+    if (value < tau) {
+      mesh.clipped_nodes += value <= 0.0 ? 1 : 0;
+      value = tau;
+    }
+  };
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        if (i == 0 || j == 0 || k == 0 || i == dims[0] - 1 || j == dims[1] - 1 || k == dims[2] - 1)
+          clip(i, j, k);
+  const std::vector<Eigen::Vector3i> touched =
+      cells_touched_by_shells({phi.origin, phi.dx, dims}, shells);
+  for (const Eigen::Vector3i& c : touched)
+    for (int corner = 0; corner < 8; ++corner)
+      clip(c.x() + (corner & 1), c.y() + ((corner >> 1) & 1), c.z() + (corner >> 2));
+
+  const auto grid = level_set_grid(psi, phi);
+  openvdb::tools::VolumeToMesh mesher(/*isovalue=*/0.0, options.adaptivity);
+  if (options.adaptivity > 0.0 && !touched.empty()) {
+    auto mask = std::make_shared<openvdb::BoolTree>(false);
+    openvdb::tree::ValueAccessor<openvdb::BoolTree> accessor(*mask);
+    for (const Eigen::Vector3i& c : touched)
+      for (int dk = -kUnmergedRing; dk <= kUnmergedRing; ++dk)
+        for (int dj = -kUnmergedRing; dj <= kUnmergedRing; ++dj)
+          for (int di = -kUnmergedRing; di <= kUnmergedRing; ++di)
+            accessor.setValueOn(openvdb::Coord(c.x() + di, c.y() + dj, c.z() + dk));
+    mesher.setAdaptivityMask(mask);
+  }
+  mesher(*grid);
+
+  const size_t points = mesher.pointListSize();
+  mesh.positions.resize(static_cast<Eigen::Index>(points), 3);
+  for (size_t p = 0; p < points; ++p)
+    for (int a = 0; a < 3; ++a)
+      mesh.positions(static_cast<Eigen::Index>(p), a) = mesher.pointList()[p][a];
+  size_t triangles = 0;
+  for (size_t n = 0; n < mesher.polygonPoolListSize(); ++n)
+    triangles +=
+        mesher.polygonPoolList()[n].numTriangles() + 2 * mesher.polygonPoolList()[n].numQuads();
+  mesh.triangles.resize(static_cast<Eigen::Index>(triangles), 3);
+  Eigen::Index t = 0;
+  // OpenVDB winds its polygons clockwise seen from outside (Houdini's convention); OBJ and
+  // PLY readers expect counter-clockwise, hence the reversed order.
+  const auto add = [&](unsigned a, unsigned b, unsigned c) {
+    mesh.triangles.row(t++) << static_cast<int>(c), static_cast<int>(b), static_cast<int>(a);
+  };
+  for (size_t n = 0; n < mesher.polygonPoolListSize(); ++n) {
+    const openvdb::tools::PolygonPool& pool = mesher.polygonPoolList()[n];
+    for (size_t q = 0; q < pool.numQuads(); ++q) {
+      const openvdb::Vec4I& quad = pool.quad(q);
+      add(quad[0], quad[1], quad[2]);
+      add(quad[0], quad[2], quad[3]);
+    }
+    for (size_t r = 0; r < pool.numTriangles(); ++r) {
+      const openvdb::Vec3I& triangle = pool.triangle(r);
+      add(triangle[0], triangle[1], triangle[2]);
+    }
+  }
+
+  mesh.velocities = sdk::Positions::Zero(mesh.positions.rows(), 3);
+  if (velocity != nullptr)
+    for (Eigen::Index v = 0; v < mesh.positions.rows(); ++v) {
+      const Eigen::Vector3d x = mesh.positions.row(v).transpose();
+      for (int c = 0; c < 3; ++c) mesh.velocities(v, c) = trilinear(*velocity, c, x);
+    }
+  return mesh;
+}
+
+double mesh_volume(const sdk::Positions& positions, const sdk::Triangles& triangles) {
+  double six_volume = 0.0;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    const Eigen::Vector3d a = positions.row(triangles(t, 0)).transpose();
+    const Eigen::Vector3d b = positions.row(triangles(t, 1)).transpose();
+    const Eigen::Vector3d c = positions.row(triangles(t, 2)).transpose();
+    six_volume += a.dot(b.cross(c));
+  }
+  return six_volume / 6.0;
+}
+
+double mesh_area(const sdk::Positions& positions, const sdk::Triangles& triangles) {
+  double twice_area = 0.0;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    const Eigen::Vector3d a = positions.row(triangles(t, 0)).transpose();
+    const Eigen::Vector3d b = positions.row(triangles(t, 1)).transpose();
+    const Eigen::Vector3d c = positions.row(triangles(t, 2)).transpose();
+    twice_area += (b - a).cross(c - a).norm();
+  }
+  return twice_area / 2.0;
+}
+
+}  // namespace shellflow::liquid_writer
