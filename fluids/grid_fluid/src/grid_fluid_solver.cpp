@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "shellflow/grid_fluid/mac/ordered_sum.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
 
@@ -538,10 +539,8 @@ std::optional<std::string> GridFluid::find_nonfinite() const {
 
 double GridFluid::smoke_mass() const {
   const auto& rho = m_nodes.density();
-  double sum = 0.0;
-  const std::int64_t n = static_cast<std::int64_t>(rho.size());
-#pragma omp parallel for reduction(+ : sum)
-  for (std::int64_t i = 0; i < n; ++i) sum += rho[i];
+  const double sum =
+      ordered_sum(static_cast<std::int64_t>(rho.size()), [&](std::int64_t i) { return rho[i]; });
   const double dx = m_mac.dx();
   return sum * dx * dx * dx;
 }
@@ -596,9 +595,8 @@ void GridFluid::report(sdk::Metrics& out) const {
     double sum = 0.0;
     for (int a = 0; a < 3; ++a) {
       const auto& u = m_mac.face_velocity(a);
-      const std::int64_t n = static_cast<std::int64_t>(u.size());
-#pragma omp parallel for reduction(+ : sum)
-      for (std::int64_t f = 0; f < n; ++f) sum += u[f] * u[f];
+      sum += ordered_sum(static_cast<std::int64_t>(u.size()),
+                         [&](std::int64_t f) { return u[f] * u[f]; });
     }
     const double dx = m_mac.dx();
     out.set("kinetic_energy", 0.5 * m_density * sum * dx * dx * dx);

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
+#include "shellflow/grid_fluid/mac/ordered_sum.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -79,27 +80,20 @@ void LevelSet::cell_values(std::vector<double>& out, const std::array<bool, 6>& 
 double LevelSet::volume() const {
   const Eigen::Vector3i n = m_grid.counts(Location::Node);
   const double eps = 1.5 * m_grid.dx();
-  double sum = 0.0;
-#pragma omp parallel for collapse(2) schedule(static) reduction(+ : sum)
-  for (int k = 0; k < n.z(); ++k)
-    for (int j = 0; j < n.y(); ++j)
-      for (int i = 0; i < n.x(); ++i) {
-        const double phi = m_phi[m_grid.index(Location::Node, i, j, k)];
-        double h;  // H(−φ)
-        if (phi <= -eps) {
-          h = 1.0;
-        } else if (phi >= eps) {
-          continue;
-        } else {
-          const double x = -phi;
-          h = 0.5 + x / (2.0 * eps) +
-              std::sin(std::numbers::pi * x / eps) / (2.0 * std::numbers::pi);
-        }
-        const double w = (i == 0 || i == n.x() - 1 ? 0.5 : 1.0) *
-                         (j == 0 || j == n.y() - 1 ? 0.5 : 1.0) *
-                         (k == 0 || k == n.z() - 1 ? 0.5 : 1.0);
-        sum += w * h;
-      }
+  const double sum = ordered_sum(static_cast<std::int64_t>(m_phi.size()), [&](std::int64_t node) {
+    const double phi = m_phi[node];
+    if (phi >= eps) return 0.0;
+    double h = 1.0;  // H(−φ)
+    if (phi > -eps) {
+      const double x = -phi;
+      h = 0.5 + x / (2.0 * eps) + std::sin(std::numbers::pi * x / eps) / (2.0 * std::numbers::pi);
+    }
+    const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, node);
+    double w = 1.0;  // trapezoidal at the walls
+    for (int a = 0; a < 3; ++a)
+      if (ijk[a] == 0 || ijk[a] == n[a] - 1) w *= 0.5;
+    return w * h;
+  });
   const double dx = m_grid.dx();
   return sum * dx * dx * dx;
 }
