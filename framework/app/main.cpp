@@ -4,6 +4,7 @@
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <CLI/CLI.hpp>
+#include <unistd.h>
 
 #include <atomic>
 #include <csignal>
@@ -41,13 +42,19 @@ extern "C" void on_interrupt(int) {
 
 namespace app = shellflow::app;
 
+/// `f` when it is a terminal (a progress line rewritten in place), else null: a log or a
+/// pipe gets the summary line only.
+std::FILE* terminal_or_null(std::FILE* f) {
+  return ::isatty(::fileno(f)) ? f : nullptr;
+}
+
 /// The end of a run that wrote previews: preview.mp4, or a one-line note why not. Never
 /// changes the run's exit code.
 void movie_after_run(const std::filesystem::path& out_dir) {
   try {
     std::error_code ec;
     if (!std::filesystem::exists(out_dir / "run.json", ec)) return;
-    const auto movie = app::encode_preview_movie(out_dir);
+    const auto movie = app::encode_preview_movie(out_dir, terminal_or_null(stderr));
     switch (movie.status) {
       case app::PreviewMovie::Status::Written:
         spdlog::info("encoded {} previews into {} (H.264, {:g} fps)", movie.frames,
@@ -71,7 +78,7 @@ int movie_command(const std::string& run_dir) {
   if (!std::filesystem::is_directory(run_dir))
     throw shellflow::IoError("run folder not found: " + run_dir +
                              " (give the folder a run wrote, as out/<scene name>)");
-  const auto movie = app::encode_preview_movie(run_dir);
+  const auto movie = app::encode_preview_movie(run_dir, terminal_or_null(stderr));
   if (movie.status != app::PreviewMovie::Status::Written) throw shellflow::IoError(movie.message);
   std::printf("wrote %s: %d previews from %s, H.264, %g fps\n", movie.file.c_str(), movie.frames,
               movie.previews.c_str(), movie.fps);

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -41,7 +42,7 @@ fs::path find_on_path(const std::string& name) {
   return {};
 }
 
-PreviewMovie encode_preview_movie(const fs::path& run_dir) {
+PreviewMovie encode_preview_movie(const fs::path& run_dir, std::FILE* progress) {
   const fs::path run_json = run_dir / "run.json";
   std::ifstream in(run_json);
   if (!in)
@@ -93,8 +94,11 @@ PreviewMovie encode_preview_movie(const fs::path& run_dir) {
   // padded by a pixel. The names sort in frame order (<scene>_<frame, 4 digits>.png).
   char fps[32];
   std::snprintf(fps, sizeof fps, "%.9g", movie.fps);
+  // -progress writes key=value lines ("frame=12") as it goes: the progress line; anything
+  // else on the pipe is ffmpeg's error output.
   const std::string cmd =
-      shell_quote(ffmpeg.string()) + " -nostdin -hide_banner -loglevel error -y -framerate " + fps +
+      shell_quote(ffmpeg.string()) +
+      " -nostdin -hide_banner -loglevel error -nostats -progress pipe:1 -y -framerate " + fps +
       " -pattern_type glob -i " + shell_quote((movie.previews / "*.png").string()) +
       " -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' -c:v libx264 -pix_fmt yuv420p"
       " -r " +
@@ -106,8 +110,26 @@ PreviewMovie encode_preview_movie(const fs::path& run_dir) {
     return movie;
   }
   std::string output;
-  char buf[4096];
-  while (size_t n = std::fread(buf, 1, sizeof buf, pipe)) output.append(buf, n);
+  char line[4096];
+  bool progress_shown = false;
+  while (std::fgets(line, sizeof line, pipe)) {
+    const std::string text(line);
+    const size_t eq = text.find('=');
+    const bool key_value =
+        eq != std::string::npos && eq > 0 &&
+        std::all_of(text.begin(), text.begin() + eq,
+                    [](char c) { return std::islower(static_cast<unsigned char>(c)) ||
+                                        std::isdigit(static_cast<unsigned char>(c)) || c == '_'; });
+    if (!key_value) {
+      output += text;
+    } else if (progress && text.rfind("frame=", 0) == 0) {
+      std::fprintf(progress, "\rencoding %s: frame %d of %d", movie.file.filename().c_str(),
+                   std::atoi(text.c_str() + 6), movie.frames);
+      std::fflush(progress);
+      progress_shown = true;
+    }
+  }
+  if (progress_shown) std::fputc('\n', progress);
   const int status = ::pclose(pipe);
   if (status != 0 || !fs::is_regular_file(movie.file, ec)) {
     movie.status = PreviewMovie::Status::Failed;

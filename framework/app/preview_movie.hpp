@@ -2,6 +2,7 @@
 // preview.mp4 from a run's PNG previews through ffmpeg: what `shellflow run` does at the end
 // of a run that wrote previews, and what `shellflow movie RUN_DIR` does afterwards.
 
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
@@ -22,7 +23,10 @@ std::filesystem::path find_on_path(const std::string& name);
 
 /// Encodes RUN_DIR/<preview folder>/*.png into RUN_DIR/preview.mp4 (H.264, yuv420p, odd
 /// sizes padded to even, the run's fps), the folder and fps read from RUN_DIR/run.json.
+/// `progress`, when given (stderr at a terminal), gets a line "encoding preview.mp4: frame k
+/// of n" rewritten as ffmpeg goes.
 /// @throw shellflow::IoError when RUN_DIR is not a run folder (no readable run.json).
-PreviewMovie encode_preview_movie(const std::filesystem::path& run_dir);
+PreviewMovie encode_preview_movie(const std::filesystem::path& run_dir,
+                                  std::FILE* progress = nullptr);
 
 }  // namespace shellflow::app

@@ -98,6 +98,15 @@ TEST_F(Movie, RunEndsWithAnH264MovieOfEveryPreviewAtTheRunsFps) {
   EXPECT_THAT(m.output, HasSubstr("5 previews"));
   p = probe();
   EXPECT_THAT(p.output, HasSubstr("nb_read_frames=5"));
+  // Piped (a log), no progress line; at a terminal (util-linux `script` gives it one), a
+  // line counting the frames ffmpeg has encoded, up to all of them.
+  EXPECT_THAT(m.output, Not(HasSubstr("encoding preview.mp4")));
+  if (have("script")) {
+    const auto t = sh("script -qec \"" + std::string(SHELLFLOW_CLI) + " movie '" +
+                      out().string() + "'\" /dev/null");
+    EXPECT_EQ(t.exit_code, 0) << t.output;
+    EXPECT_THAT(t.output, HasSubstr("encoding preview.mp4: frame 5 of 5"));
+  }
 }
 
 }  // namespace
