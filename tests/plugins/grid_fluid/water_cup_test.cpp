@@ -163,9 +163,9 @@ TEST(WaterCup, WaterInTheStillCupNeverRunsOutsideIt) {
 }
 
 // Disabled: fails today. The level set loses the cup's water: 0.01047 m^3 at the start,
-// 59% of it gone at 0.5 s, 47% at 1.5 s (trilinear φ step: 72%, and 82% before fast
-// marching kept the surface where it was; 64% after 0.9 s with 16 particles per cell; 55%
-// after 1.2 s at 64 cells), most of it in the first 0.25 s. The inscribed box leaves a ring of
+// 72% of it gone at 1.5 s (82% before fast marching kept the surface where it was; 47%
+// with MacCormack's φ step; 64% after 0.9 s with 16 particles per cell; 55% after 1.2 s at
+// 64 cells), most of it in the first 0.25 s. The inscribed box leaves a ring of
 // air against the wall that the water rushes into and runs up (up to 2 m/s, measured on
 // the faces into air cells there). The cells of that ring are cut by the wall and see only
 // the corners nearest the axis, up to 0.9Δx in from the wall; those stay dry while the

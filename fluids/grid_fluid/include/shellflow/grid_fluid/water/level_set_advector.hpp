@@ -10,13 +10,14 @@
 // node in the cell the node is invalid and refilled afterwards (refill(): §3,
 // Gauss–Jacobi over valid visible neighbours, then the positive distance to the object).
 // Nodes outside the shell band take the plain trilinear path.
-// With `maccormack` (Selle, Fedkiw, Kim, Liu, Rossignac 2008; the scene's default) each
-// step traces the rays forward and back and corrects the forward value by half the round
-// trip's error, clamped to the values the forward stencil interpolated (after the ring
-// rule): second order where φ is smooth, never a new extremum. Trilinear alone smooths φ
-// every step and curved water shrinks by O(Δx^2 κ) a step (a box collapsing in a narrow
-// tank, 16 cells across: -39% in 0.6 s, MacCormack +2%; a sphere turning rigidly at 50^3,
-// one revolution: -97% and +0.1%); the particles of §4.4.2 are the paper's cure.
+// With `maccormack` (Selle, Fedkiw, Kim, Liu, Rossignac 2008; experimental) each step
+// traces the rays forward and back and corrects the forward value by half the round trip's
+// error, clamped to the values the forward stencil interpolated (after the ring rule):
+// second order where φ is smooth, never a new extremum. Trilinear alone smooths φ every
+// step and curved water shrinks by O(Δx^2 κ) a step (a box collapsing in a narrow tank,
+// 16 cells across: -39% in 0.6 s, MacCormack +2%; a sphere turning rigidly at 32^3, one
+// revolution: -100% and +1.6%); the particles of §4.4.2 are the paper's cure. Not the
+// default: a 64-cell dam break blew up with it (its speed doubling every 10 steps).
 
 #include <cstdint>
 #include <optional>
