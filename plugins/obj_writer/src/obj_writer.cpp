@@ -28,7 +28,7 @@ void write_obj(std::ostream& out, const sdk::ShellSurface& shell, int frame, dou
   std::replace_if(
       name.begin(), name.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
   std::string text =
-      "# shellflow obj_writer: shell " + name + ", frame " + std::to_string(frame) + ", t = ";
+      "# shellflow obj_writer: mesh " + name + ", frame " + std::to_string(frame) + ", t = ";
   append_number(text, time);
   text += " s\n";
   for (Eigen::Index i = 0; i < shell.positions.rows(); ++i) {

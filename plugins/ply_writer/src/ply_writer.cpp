@@ -30,7 +30,7 @@ void write_ply(std::ostream& out, const sdk::ShellSurface& shell, int frame, dou
       name.begin(), name.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
 
   const std::string header =
-      "ply\nformat binary_little_endian 1.0\ncomment shellflow ply_writer: shell " + name +
+      "ply\nformat binary_little_endian 1.0\ncomment shellflow ply_writer: mesh " + name +
       ", frame " + std::to_string(frame) + ", t = " + std::to_string(time) + " s\nelement vertex " +
       std::to_string(nodes) +
       "\nproperty float x\nproperty float y\nproperty float z\n"
