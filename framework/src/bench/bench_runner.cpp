@@ -9,26 +9,18 @@
 #include "shellflow/bench/bench_report.hpp"
 #include "shellflow/bench/finest_reference.hpp"
 #include "shellflow/bench/sweep_plan.hpp"
+#include "shellflow/runtime/progress.hpp"
 #include "shellflow/sdk/atomic_file.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::bench {
 
+using runtime::clock_text;
+
 namespace fs = std::filesystem;
 using Json = nlohmann::json;
 
 namespace {
-
-std::string clock_text(double seconds) {
-  if (!std::isfinite(seconds) || seconds < 0) return "--:--";
-  const long s = std::lround(seconds);
-  char buf[32];
-  if (s >= 3600)
-    std::snprintf(buf, sizeof buf, "%ld:%02ld:%02ld", s / 3600, (s / 60) % 60, s % 60);
-  else
-    std::snprintf(buf, sizeof buf, "%02ld:%02ld", s / 60, s % 60);
-  return buf;
-}
 
 Json spec_echo(const BenchSpec& spec, const std::vector<SweepPoint>& points,
                const BenchOptions& options) {

@@ -7,7 +7,6 @@
 
 namespace shellflow::runtime {
 
-namespace {
 std::string clock_text(double seconds) {
   if (!std::isfinite(seconds) || seconds < 0) return "--:--";
   const long s = std::lround(seconds);
@@ -18,7 +17,6 @@ std::string clock_text(double seconds) {
     std::snprintf(buf, sizeof buf, "%02ld:%02ld", s / 60, s % 60);
   return buf;
 }
-}  // namespace
 
 ProgressPrinter::ProgressPrinter(std::FILE* out) : ProgressPrinter(out, isatty(fileno(out)) != 0) {}
 ProgressPrinter::ProgressPrinter(std::FILE* out, bool interactive)

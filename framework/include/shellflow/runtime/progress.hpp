@@ -3,8 +3,13 @@
 // (one per frame) otherwise, so logs and CI output stay readable.
 
 #include <cstdio>
+#include <string>
 
 namespace shellflow::runtime {
+
+/// A duration as "mm:ss", or "h:mm:ss" from an hour on; "--:--" when unknown (negative or
+/// not finite): the ETA of runs and of bench sweeps.
+std::string clock_text(double seconds);
 
 struct Progress {
   int frame = 0;                   ///< frames done
