@@ -40,8 +40,11 @@ double CouplingLoop::solids_stable_dt() const {
 
 double CouplingLoop::limit_dt(double dt, double time_to_frame_end) const {
   if (m_limits.max_dt) dt = std::min(dt, *m_limits.max_dt);
-  // Land exactly on the frame end; split the rest evenly rather than leave a sliver.
-  if (dt >= time_to_frame_end) return time_to_frame_end;
+  // Land exactly on the frame end; split the rest evenly rather than leave a sliver. Time
+  // left that exceeds the step by round-off only (t accumulates it: 50 fps with max_dt
+  // 0.02 s left 0.0200000000002) is taken whole rather than halved.
+  constexpr double kRoundOff = 1e-9;
+  if (dt >= time_to_frame_end * (1.0 - kRoundOff)) return time_to_frame_end;
   if (dt > 0.5 * time_to_frame_end) return 0.5 * time_to_frame_end;
   return dt;
 }

@@ -136,5 +136,28 @@ TEST(CouplingLoop, SolidsOnlyStepsEndExactlyOnTheFrame) {
   for (double f : solid.forces_seen) EXPECT_EQ(f, 0.0);
 }
 
+TEST(CouplingLoop, AStepThatFitsAFrameToRoundOffLandsOnItsEnd) {
+  // 50 fps with max_dt 0.02 s, stepped as the run driver does (frame ends k/50, the time
+  // accumulating round-off): one step a frame. Taking the time left as more than a step
+  // when it exceeded 0.02 by round-off halved the step from frame 4 on (10 frames in 14
+  // steps).
+  ClockSolid solid;
+  CouplingLoop loop(nullptr, {&solid}, {0.9, 0.02});
+  const double frame_dt = 1.0 / 50.0;
+  loop.start(0.0, frame_dt);
+  int steps = 0;
+  for (int frame = 1; frame <= 10; ++frame) {
+    const double frame_end = frame * frame_dt;
+    while (frame_end - loop.time() > 1e-12 * frame_end) {
+      const double remaining = frame_end - loop.time();
+      const double dt = loop.next_dt(remaining);
+      loop.step(dt, remaining - dt > 1e-12 * frame_end ? remaining - dt : frame_dt);
+      ++steps;
+    }
+  }
+  EXPECT_EQ(steps, 10);
+  EXPECT_NEAR(loop.time(), 0.2, 1e-15);
+}
+
 }  // namespace
 }  // namespace shellflow::coupling
