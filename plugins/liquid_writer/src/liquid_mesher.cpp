@@ -6,11 +6,11 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <mutex>
 #include <vector>
 
 #include "shellflow/liquid_writer/shell_cells.hpp"
 #include "shellflow/sdk/error.hpp"
+#include "shellflow/vdb_writer/vdb_file.hpp"
 
 namespace shellflow::liquid_writer {
 
@@ -22,11 +22,6 @@ constexpr double kClippedValue = 1e-3;
 constexpr double kHalfWidth = 3.0;
 /// Cells about a touched cell kept from merging when adaptive [cells].
 constexpr int kUnmergedRing = 2;
-
-void initialize_openvdb_once() {
-  static std::once_flag flag;
-  std::call_once(flag, [] { openvdb::initialize(); });
-}
 
 size_t node_index(const std::array<int, 3>& dims, int i, int j, int k) {
   return static_cast<size_t>(i) +
@@ -114,7 +109,7 @@ std::vector<double> smoothed(std::vector<double> psi, const sdk::FieldView& phi,
 LiquidMesh mesh_liquid(const sdk::FieldView& phi, const sdk::FieldView* velocity,
                        sdk::ShellSet shells, const LiquidMeshOptions& options) {
   check_fields(phi, velocity);
-  initialize_openvdb_once();
+  vdb_writer::initialize_openvdb_once();
   const auto& dims = phi.dims;
   const size_t count = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
   std::vector<double> psi(phi.data[0], phi.data[0] + count);

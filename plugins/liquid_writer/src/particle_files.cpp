@@ -1,31 +1,18 @@
 #include "shellflow/liquid_writer/particle_files.hpp"
 
-#include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/points/PointConversion.h>
 #include <algorithm>
-#include <bit>
 #include <cstdint>
-#include <mutex>
 #include <vector>
 
-#include "shellflow/sdk/atomic_file.hpp"
+#include "shellflow/ply_writer/ply_writer.hpp"
 #include "shellflow/sdk/error.hpp"
+#include "shellflow/vdb_writer/vdb_file.hpp"
 
 namespace shellflow::liquid_writer {
 
 namespace {
-
-void initialize_openvdb_once() {
-  static std::once_flag flag;
-  std::call_once(flag, [] { openvdb::initialize(); });
-}
-
-/// Appends `value` as a 4-byte little-endian float whatever the host's byte order.
-void put_float(std::vector<char>& bytes, double value) {
-  const std::uint32_t bits = std::bit_cast<std::uint32_t>(static_cast<float>(value));
-  for (int b = 0; b < 4; ++b) bytes.push_back(static_cast<char>((bits >> (8 * b)) & 0xffu));
-}
 
 std::string one_line(std::string text) {  // a line break would end a header line
   std::replace_if(
@@ -79,10 +66,10 @@ void write_particle_ply(std::ostream& out, const sdk::ParticleView& particles, i
   std::vector<char> bytes(header.begin(), header.end());
   bytes.reserve(bytes.size() + static_cast<size_t>(particles.count) * 28);
   for (std::int64_t i = 0; i < particles.count; ++i) {
-    for (int a = 0; a < 3; ++a) put_float(bytes, particles.position[a][i]);
+    for (int a = 0; a < 3; ++a) ply_writer::put_float(bytes, particles.position[a][i]);
     for (int a = 0; a < 3; ++a)
-      put_float(bytes, particles.velocity[a] ? particles.velocity[a][i] : 0.0);
-    put_float(bytes, particles.radius ? particles.radius[i] : 0.0);
+      ply_writer::put_float(bytes, particles.velocity[a] ? particles.velocity[a][i] : 0.0);
+    ply_writer::put_float(bytes, particles.radius ? particles.radius[i] : 0.0);
   }
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
 }
@@ -91,23 +78,10 @@ void write_particle_vdb(const std::filesystem::path& file, std::span<const sdk::
                         double voxel_size, const ParticleVdbInfo& info) {
   if (!(voxel_size > 0.0))
     throw Error("liquid_writer: the particles' voxel size must be > 0 (a runtime bug)");
-  initialize_openvdb_once();
+  vdb_writer::initialize_openvdb_once();
   openvdb::GridPtrVec grids;
   for (const auto& set : sets) grids.push_back(point_grid(set, voxel_size));
-  openvdb::MetaMap metadata;
-  metadata.insertMeta("creator", openvdb::StringMetadata("shellflow liquid_writer"));
-  metadata.insertMeta("shellflow_scene", openvdb::StringMetadata(info.scene_name));
-  metadata.insertMeta("shellflow_frame", openvdb::Int32Metadata(info.frame));
-  metadata.insertMeta("shellflow_time", openvdb::DoubleMetadata(info.time));
-  sdk::replace_file_atomically(file, [&](const std::filesystem::path& temporary) {
-    try {
-      openvdb::io::File out(temporary.string());
-      out.write(grids, metadata);
-      out.close();
-    } catch (const openvdb::Exception& e) {
-      throw IoError(file.string() + ": cannot write the OpenVDB file (" + e.what() + ")");
-    }
-  });
+  vdb_writer::write_vdb_grids(file, grids, "shellflow liquid_writer", info);
 }
 
 }  // namespace shellflow::liquid_writer

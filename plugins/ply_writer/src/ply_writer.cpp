@@ -15,11 +15,11 @@ void put_u32(std::vector<char>& bytes, std::uint32_t value) {
   for (int b = 0; b < 4; ++b) bytes.push_back(static_cast<char>((value >> (8 * b)) & 0xffu));
 }
 
+}  // namespace
+
 void put_float(std::vector<char>& bytes, double value) {
   put_u32(bytes, std::bit_cast<std::uint32_t>(static_cast<float>(value)));
 }
-
-}  // namespace
 
 void write_ply(std::ostream& out, const sdk::ShellSurface& shell, int frame, double time) {
   const Eigen::Index nodes = shell.positions.rows();

@@ -1,27 +1,20 @@
 #include "shellflow/vdb_writer/vdb_frame.hpp"
 
-#include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 #include <openvdb/tools/Dense.h>
 #include <openvdb/tools/Prune.h>
 #include <algorithm>
 #include <cmath>
 #include <memory>
-#include <mutex>
 #include <system_error>
 #include <vector>
 
-#include "shellflow/sdk/atomic_file.hpp"
 #include "shellflow/sdk/error.hpp"
+#include "shellflow/vdb_writer/vdb_file.hpp"
 
 namespace shellflow::vdb_writer {
 
 namespace {
-
-void initialize_openvdb_once() {
-  static std::once_flag flag;
-  std::call_once(flag, [] { openvdb::initialize(); });
-}
 
 const char* location_name(sdk::FieldView::Location location) {
   return location == sdk::FieldView::Location::Node ? "node" : "cell";
@@ -206,21 +199,7 @@ void write_vdb_frame(const std::filesystem::path& file, std::span<const sdk::Fie
     grids.push_back(grid);
   }
 
-  openvdb::MetaMap metadata;
-  metadata.insertMeta("creator", openvdb::StringMetadata("shellflow vdb_writer"));
-  metadata.insertMeta("shellflow_scene", openvdb::StringMetadata(info.scene_name));
-  metadata.insertMeta("shellflow_frame", openvdb::Int32Metadata(info.frame));
-  metadata.insertMeta("shellflow_time", openvdb::DoubleMetadata(info.time));
-
-  sdk::replace_file_atomically(file, [&](const std::filesystem::path& temporary) {
-    try {
-      openvdb::io::File out(temporary.string());
-      out.write(grids, metadata);
-      out.close();
-    } catch (const openvdb::Exception& e) {
-      throw IoError(file.string() + ": cannot write the OpenVDB file (" + e.what() + ")");
-    }
-  });
+  write_vdb_grids(file, grids, "shellflow vdb_writer", info);
 }
 
 }  // namespace shellflow::vdb_writer

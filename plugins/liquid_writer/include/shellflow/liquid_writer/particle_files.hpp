@@ -13,6 +13,7 @@
 #include <string>
 
 #include "shellflow/sdk/fluid_solver.hpp"
+#include "shellflow/vdb_writer/vdb_frame.hpp"
 
 namespace shellflow::liquid_writer {
 
@@ -20,11 +21,8 @@ namespace shellflow::liquid_writer {
 void write_particle_ply(std::ostream& out, const sdk::ParticleView& particles, int frame,
                         double time);
 
-struct ParticleVdbInfo {
-  std::string scene_name;
-  int frame = 0;
-  double time = 0.0;  ///< [s]
-};
+/// The file's metadata: scene, frame, time (vdb_writer's, as its files carry).
+using ParticleVdbInfo = vdb_writer::VdbFrameInfo;
 
 /// Writes every set of `sets` as a PointDataGrid of voxel size `voxel_size` [m] (> 0) to
 /// `file`, through a temporary file renamed into place. @throw IoError naming the file.

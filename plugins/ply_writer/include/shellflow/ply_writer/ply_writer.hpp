@@ -10,11 +10,16 @@
 
 #include <nlohmann/json.hpp>
 #include <ostream>
+#include <vector>
 
 #include "shellflow/mesh_output/mesh_sequence_writer.hpp"
 #include "shellflow/sdk/context.hpp"
 
 namespace shellflow::ply_writer {
+
+/// Appends `value` as a 4-byte little-endian float, whatever the host's byte order (the
+/// binary_little_endian PLY body; liquid_writer's point clouds use it too).
+void put_float(std::vector<char>& bytes, double value);
 
 /// Writes one shell; missing velocities (a matrix of another size) are written as zero.
 void write_ply(std::ostream& out, const sdk::ShellSurface& shell, int frame, double time);
