@@ -60,22 +60,21 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
     bool found = false;
     const bool held = m_hidden[i] != 0;
     double nearest_crossing = kInf;  // along an axis: an upper bound on the distance
-    double gradient_squared = 0.0;
+    double difference[3] = {0.0, 0.0, 0.0};  // φ's difference over the visible neighbours
+    int span[3] = {0, 0, 0};                 // over how many cells
     for (int a = 0; a < 3; ++a) {
-      double difference = 0.0, span = 0.0;  // φ's difference over the visible neighbours
       for (int side = 0; side < 2; ++side) {
         const int c = ijk[a] + (side == 0 ? -1 : 1);
         if (c < 0 || c >= n[a]) continue;
         if ((m_hidden[i] >> (2 * a + side) & 1u) != 0) continue;  // nothing across it
         const std::int64_t j = i + (side == 0 ? -stride[a] : stride[a]);
-        difference += side == 0 ? p - phi[j] : phi[j] - p;
-        span += dx;
+        difference[a] += side == 0 ? p - phi[j] : phi[j] - p;
+        ++span[a];
         if ((phi[j] <= 0.0) != water) {
           found = true;
           nearest_crossing = std::min(nearest_crossing, dx * p / (p - phi[j]));  // > 0
         }
       }
-      if (span > 0.0) gradient_squared += (difference / span) * (difference / span);
     }
     // |φ|/|∇φ|: the distance to the zero of φ's linearisation, no farther than the nearest
     // crossing (a thin sheet's φ has no gradient across it). Central differences of a
@@ -86,6 +85,12 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
     // and larger departures only beyond that.
     double dist = kInf;
     if (found) {
+      double gradient_squared = 0.0;
+      for (int a = 0; a < 3; ++a)
+        if (span[a] > 0) {
+          const double slope = difference[a] / (span[a] * dx);
+          gradient_squared += slope * slope;
+        }
       const double gradient = std::sqrt(gradient_squared);
       const double departure = gradient - 1.0;
       const double slack = std::copysign(std::min(std::abs(departure), kGradientSlack), departure);
@@ -111,11 +116,12 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
   const auto update = [&](std::int64_t i) {
     const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, i);
     const bool water = phi[i] <= 0.0;
-    // The accepted distance of from's neighbour, signed for this side (an interface node
-    // across the surface counts negative: the signed distance is smooth across it);
-    // +inf where there is none, it lies across a shell, or (unless `across`) it is across.
-    const auto upwind = [&](std::int64_t from, int ax, int side, bool across) -> double {
-      const int c = m_grid.coordinates(Location::Node, from)[ax] + (side == 0 ? -1 : 1);
+    // The accepted distance of from's neighbour (`from` at index `at` along ax), signed for
+    // this side (an interface node across the surface counts negative: the signed distance
+    // is smooth across it); +inf where there is none, it lies across a shell, or (unless
+    // `across`) it is across.
+    const auto upwind = [&](std::int64_t from, int at, int ax, int side, bool across) -> double {
+      const int c = at + (side == 0 ? -1 : 1);
       if (c < 0 || c >= n[ax]) return kInf;
       if ((m_hidden[from] >> (2 * ax + side) & 1u) != 0) return kInf;  // never across a shell
       const std::int64_t j = from + (side == 0 ? -stride[ax] : stride[ax]);
@@ -128,16 +134,14 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
     for (int ax = 0; ax < 3; ++ax) {
       double best = kInf, weight = 1.0, shifted = kInf;
       for (int side = 0; side < 2; ++side) {
-        const double a1 = upwind(i, ax, side, false);
+        const double a1 = upwind(i, ijk[ax], ax, side, false);
         if (a1 == kInf) continue;
         double a = a1, w = 1.0;
-        const std::int64_t j = i + (side == 0 ? -stride[ax] : stride[ax]);
-        {
-          const double a2 = upwind(j, ax, side, true);
-          if (a2 <= a1) {
-            a = (4.0 * a1 - a2) / 3.0;
-            w = 2.25;
-          }
+        const int step = side == 0 ? -1 : 1;
+        const double a2 = upwind(i + step * stride[ax], ijk[ax] + step, ax, side, true);
+        if (a2 <= a1) {
+          a = (4.0 * a1 - a2) / 3.0;
+          w = 2.25;
         }
         if (a1 < best) {
           best = a1;
