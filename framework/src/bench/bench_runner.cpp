@@ -9,6 +9,7 @@
 #include "shellflow/bench/bench_report.hpp"
 #include "shellflow/bench/finest_reference.hpp"
 #include "shellflow/bench/sweep_plan.hpp"
+#include "shellflow/runtime/output_folder.hpp"
 #include "shellflow/runtime/progress.hpp"
 #include "shellflow/sdk/atomic_file.hpp"
 #include "shellflow/sdk/error.hpp"
@@ -59,27 +60,11 @@ void write_json(const fs::path& file, const Json& j) {
 }  // namespace
 
 void prepare_bench_folder(const fs::path& dir, bool overwrite) {
+  static const runtime::OutputFolderKind kind{"bench", "bench folder", "bench.json",
+                                              "its results.csv"};
+  runtime::prepare_output_folder(dir, overwrite, kind);
   std::error_code ec;
-  if (fs::exists(dir, ec)) {
-    if (!fs::is_directory(dir, ec))
-      throw IoError("bench output path " + dir.string() +
-                    " exists and is not a folder; choose another --out");
-    const bool empty = fs::is_empty(dir, ec);
-    const bool holds_bench = fs::exists(dir / "bench.json", ec);
-    if (!empty && !holds_bench)
-      throw IoError("bench folder " + dir.string() +
-                    " is not empty and holds no shellflow bench (no bench.json); shellflow will "
-                    "not write into it: choose another --out");
-    if (holds_bench && !overwrite)
-      throw IoError("bench folder " + dir.string() +
-                    " already holds a bench (see its results.csv); pass --overwrite to replace "
-                    "it, or --out DIR to write elsewhere");
-    if (holds_bench) {
-      for (const auto& entry : fs::directory_iterator(dir, ec)) fs::remove_all(entry.path(), ec);
-      if (ec) throw IoError("cannot clear " + dir.string() + " for --overwrite: " + ec.message());
-    }
-  }
-  for (const char* sub : {"", "scenes", "runs", "logs"}) {
+  for (const char* sub : {"scenes", "runs", "logs"}) {
     fs::create_directories(dir / sub, ec);
     if (ec) throw IoError("cannot create " + (dir / sub).string() + ": " + ec.message());
   }
