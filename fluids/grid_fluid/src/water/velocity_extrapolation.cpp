@@ -1,6 +1,8 @@
 #include "shellflow/grid_fluid/water/velocity_extrapolation.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "shellflow/geometry/gauss_jacobi_refill.hpp"
 
@@ -34,8 +36,8 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
       const std::int64_t o = m_grid.index(Location::Node, ijk);
       m_face_phi[f] = 0.25 * (phi[o] + phi[o + node_stride[b]] + phi[o + node_stride[c]] +
                               phi[o + node_stride[b] + node_stride[c]]);
-      m_valid[f] = known[a][f];
-      known_count += known[a][f];
+      m_valid[f] = known[a][f] != 0 ? 1 : 0;
+      known_count += known[a][f] != 0 ? 1 : 0;
     }
     stats.known_faces += known_count;
     m_order.clear();
@@ -52,11 +54,36 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
       if (in_band.empty() || (in_band[from] == 0 && in_band[to] == 0)) return true;
       return shells.visible(m_grid.position(loc, from), m_grid.position(loc, to));
     };
+    // The discrete ∇φ·∇u at a face the projection set (1 in `known`; a Neumann face holds
+    // the shell's or wall's velocity, no slope), with the marching's own upwind stencil:
+    // Σ_a (φ_f − φ_a)(u_f − u_a)/Δx² over its lower liquid neighbours, one per axis.
+    const double dx = m_grid.dx(), dx2 = dx * dx;
+    const auto normal_slope = [&](std::int64_t g) {
+      if (known[a][g] != 1) return 0.0;
+      const Eigen::Vector3i gijk = m_grid.coordinates(loc, g);
+      double slope = 0.0;
+      for (int ax = 0; ax < 3; ++ax) {
+        std::int64_t best = -1;
+        double best_phi = m_face_phi[g];
+        for (int side = 0; side < 2; ++side) {
+          const int cc = gijk[ax] + (side == 0 ? -1 : 1);
+          if (cc < 0 || cc >= n[ax]) continue;
+          const std::int64_t h = g + (side == 0 ? -stride[ax] : stride[ax]);
+          if (known[a][h] != 1 || m_face_phi[h] >= best_phi || !visible(g, h)) continue;
+          best_phi = m_face_phi[h];
+          best = h;
+        }
+        if (best >= 0) slope += (m_face_phi[g] - best_phi) * (u[g] - u[best]) / dx2;
+      }
+      return slope;
+    };
+    if (m_linear) m_slope.assign(count, std::numeric_limits<double>::quiet_NaN());
     std::vector<std::int64_t> invalid;
     // Sequential in φ order: each face reads only faces of lower φ, already final.
     for (const auto& [phi_f, f] : m_order) {
       const Eigen::Vector3i ijk = m_grid.coordinates(loc, f);
-      double weighted = 0.0, weights = 0.0, plain = 0.0;
+      double weighted = 0.0, weights = 0.0, plain = 0.0, slope_weighted = 0.0;
+      const bool linear = m_linear && phi_f < dx;
       int terms = 0;
       for (int ax = 0; ax < 3; ++ax) {
         std::int64_t best = -1;
@@ -76,10 +103,24 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
         if (best >= 0) {
           weighted += (phi_f - best_phi) * u[best];
           weights += phi_f - best_phi;
+          if (linear) {
+            if (std::isnan(m_slope[best])) m_slope[best] = normal_slope(best);
+            slope_weighted += (phi_f - best_phi) * m_slope[best];
+          }
         }
       }
       if (weights > 0.0) {
         u[f] = weighted / weights;
+        if (linear) {
+          // Within a cell of the surface the normal slope d carries on (Aslam 2004's
+          // linear extrapolation: ∇φ·∇u = d, d itself extrapolated constant), so with
+          // the same weights u_f = (Σ w u_a + d Δx²)/Σ w. Constant extrapolation moved a
+          // surface a fraction s of a cell above the last liquid face with that face's
+          // velocity, an error k s Δx of a wave's speed. Beyond the first cell, constant.
+          const double slope = slope_weighted / weights;
+          m_slope[f] = slope;
+          if (weights >= 0.5 * dx) u[f] += slope * dx2 / weights;
+        }
       } else if (terms > 0) {
         u[f] = plain / terms;  // level φ (a flat surface along this face): the mean
       } else {

@@ -8,8 +8,11 @@
 // solves the upwind discretisation of ∇φ·∇u = 0 from its already known neighbours of
 // lower φ:  u_f = Σ_a (φ_f − φ_a) u_a / Σ_a (φ_f − φ_a), one neighbour per axis (the
 // lower of the two), neighbours that are not visible (a ray between the face centres
-// meets a shell) ruled out. A face with no known visible neighbour is invalid and is
-// refilled afterwards (§3: Gauss–Jacobi over valid visible neighbours, the object's
+// meets a shell) ruled out. Linear (the default): within a cell of the surface the
+// normal slope of the velocity carries on, ∇φ·∇u = d with d the same discretisation's
+// value at the liquid faces, extrapolated constant (Aslam 2004), so that a surface between
+// two planes of faces moves with its own velocity. A face with no known visible neighbour is
+// invalid and is refilled afterwards (§3: Gauss–Jacobi over valid visible neighbours, the object's
 // velocity standing in for the hidden ones). Faces beyond the band are set to 0 and never
 // read (the nodes that would read them lie beyond the band too).
 
@@ -32,9 +35,12 @@ struct ExtrapolationStats {
 
 class VelocityExtrapolation {
  public:
-  explicit VelocityExtrapolation(const grid::UniformGrid& grid) : m_grid(grid) {}
+  /// `linear`: the first layer of faces above the liquid continues the normal slope.
+  VelocityExtrapolation(const grid::UniformGrid& grid, bool linear)
+      : m_grid(grid), m_linear(linear) {}
 
-  /// `known[a]` flags (1 byte per face of family a) the faces whose velocity is set;
+  /// `known[a]` flags (1 byte per face of family a) the faces whose velocity is set: 1 by
+  /// the projection, 2 a Neumann face (a shell's or wall's velocity, no slope to continue);
   /// every other face within `width` [m] of the surface is extrapolated, the rest zeroed.
   ExtrapolationStats extrapolate(MacGrid& mac,
                                  const std::array<std::vector<std::uint8_t>, 3>& known,
@@ -43,8 +49,10 @@ class VelocityExtrapolation {
 
  private:
   grid::UniformGrid m_grid;
+  bool m_linear = false;
   std::vector<double> m_face_phi;
   std::vector<std::uint8_t> m_valid;
+  std::vector<double> m_slope;  ///< linear: ∇φ·∇u per face (NaN: not computed yet)
   std::vector<std::pair<double, std::int64_t>> m_order;
 };
 
