@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
+#include <numbers>
 
 #include "grid_fluid_test_support.hpp"
 #include "shellflow/grid_fluid/water/fast_marching.hpp"
@@ -101,6 +103,43 @@ TEST(Water, AFallingDropFallsFreelyAndOnlyItsBoxIsSolved) {
         ++checked;
       }
   EXPECT_GT(checked, 100);
+}
+
+TEST(Water, ACylinderOfWaterHoldsItsVolume) {
+  // A cylinder of water on an oblique axis (r = 0.15, length 0.5): its volume converges to
+  // π r² L at second order (the smeared Heaviside's error, largest at the caps' rims where
+  // the distance rounds the edge: measured +2.4% at 32^3, +0.6% at 64^3; a cylinder a
+  // cell thinner would be 13% smaller at 32^3), and an axis of zero length is an error that
+  // names the entry's "to".
+  const Eigen::Vector3d from(0.3, 0.3, 0.35), to(0.7, 0.6, 0.65);
+  const double r = 0.15, exact = std::numbers::pi * r * r * (to - from).norm();
+  const auto error_at = [&](int resolution) {
+    auto fluid = test::make_fluid(water_params(resolution,
+                                               {{"initial",
+                                                 {{{"type", "cylinder"},
+                                                   {"from", {from.x(), from.y(), from.z()}},
+                                                   {"to", {to.x(), to.y(), to.z()}},
+                                                   {"radius", r}}}}},
+                                               1e-8));
+    return fluid->liquid()->level_set().volume() / exact - 1.0;
+  };
+  const double e32 = error_at(32), e64 = error_at(64);
+  std::printf("[  figure  ] cylinder volume %+.3f%% at 32^3, %+.3f%% at 64^3\n", 100.0 * e32,
+              100.0 * e64);
+  EXPECT_LT(std::abs(e32), 0.05);                  // the 13% of one cell, well inside
+  EXPECT_LT(std::abs(e64), 0.35 * std::abs(e32));  // order 1.5 or better
+  try {
+    test::make_fluid(water_params(32,
+                                  {{"initial",
+                                    {{{"type", "cylinder"},
+                                      {"from", {0.5, 0.5, 0.5}},
+                                      {"to", {0.5, 0.5, 0.5}},
+                                      {"radius", r}}}}},
+                                  1e-8));
+    ADD_FAILURE() << "a cylinder without an axis was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.json_path(), "/water/initial/0/to");
+  }
 }
 
 TEST(LevelSet, CellsAgainstAWallSeeTheWaterInsideThemNotAStaleWallNode) {
@@ -358,7 +397,8 @@ TEST(FastMarching, RepeatedReinitialisationKeepsASphere) {
     ++nodes;
   }
   ASSERT_GT(nodes, 0);
-  std::printf("[  figure  ] drift %.4f dx volume %+.2f%%\n", drift / nodes / dx, 100.0 * (level_set.volume() / v0 - 1.0));
+  std::printf("[  figure  ] drift %.4f dx volume %+.2f%%\n", drift / nodes / dx,
+              100.0 * (level_set.volume() / v0 - 1.0));
   EXPECT_LT(std::abs(drift / nodes), 5e-3 * dx);
 }
 
@@ -388,9 +428,10 @@ TEST(LevelSetAdvection, MacCormackKeepsTheWaterOfABoxCollapsingInANarrowTank) {
   // MacCormack's change less than a fifth of it.
   const double trilinear = collapsing_box_volume_ratio(24, "semi_lagrangian", 0.6);
   const double maccormack = collapsing_box_volume_ratio(24, "maccormack", 0.6);
-  std::printf("[  figure  ] box collapsing in a narrow tank, 24 cells up, 0.6 s, level set "
-              "alone: volume %+.1f%% semi-Lagrangian, %+.1f%% MacCormack\n",
-              100.0 * (trilinear - 1.0), 100.0 * (maccormack - 1.0));
+  std::printf(
+      "[  figure  ] box collapsing in a narrow tank, 24 cells up, 0.6 s, level set "
+      "alone: volume %+.1f%% semi-Lagrangian, %+.1f%% MacCormack\n",
+      100.0 * (trilinear - 1.0), 100.0 * (maccormack - 1.0));
   EXPECT_LT(trilinear, 0.9);
   EXPECT_LT(std::abs(maccormack - 1.0), 0.2 * (1.0 - trilinear));
 }

@@ -5,6 +5,7 @@
 
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/geometry/triangle_bvh.hpp"
+#include "shellflow/grid_fluid/smoke/smoke_source.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
 
@@ -24,6 +25,12 @@ sdk::Schema initial_water_schema() {
       .option("sphere",
               Schema::object("a ball of water")
                   .field("center", Schema::vec3().unit("m").doc("centre"))
+                  .field("radius", Schema::number().min(0.0, false).unit("m").doc("radius")))
+      .option("cylinder",
+              Schema::object("a solid cylinder of water between two points (water standing in a "
+                             "cup: its radius that of the cup)")
+                  .field("from", Schema::vec3().unit("m").doc("centre of one end"))
+                  .field("to", Schema::vec3().unit("m").doc("centre of the other end"))
                   .field("radius", Schema::number().min(0.0, false).unit("m").doc("radius")))
       .option("mesh", Schema::object("the inside of a closed triangle mesh")
                           .field("mesh", geometry::mesh_schema())
@@ -111,6 +118,14 @@ void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up
       const Eigen::Vector3d c = sdk::json_vec3(spec, "center");
       const double r = spec.at("radius").get<double>();
       distance = [=](const Eigen::Vector3d& p) { return (p - c).norm() - r; };
+    } else if (type == "cylinder") {
+      // The emitters' capped cylinder (its checks name this entry's keys).
+      const SmokeSource shape({{"shape", "cylinder"},
+                               {"from", spec.at("from")},
+                               {"to", spec.at("to")},
+                               {"radius", spec.at("radius")}},
+                              path);
+      distance = [shape](const Eigen::Vector3d& p) { return shape.signed_distance(p); };
     } else {
       auto surface = geometry::make_mesh(spec.at("mesh"), path + "/mesh");
       geometry::apply_transform(
