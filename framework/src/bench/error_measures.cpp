@@ -209,6 +209,53 @@ std::vector<ErrorMeasure> make_registry() {
                                            run.metrics.column(p["surface"]), p["depth"],
                                            p["wavelength"], gravity_of(run));
        }});
+  r.push_back(
+      {"projection_error",
+       "one projection of a manufactured field (the divergence-free Taylor–Green vortex plus a "
+       "gradient, grid_fluid's \"initial_velocity\") against its divergence-free part: the first "
+       "step's value of a grid_fluid \"velocity_error\" probe (the scene's first step must be "
+       "short: its advection moves the field by |u| Δt)",
+       "analytic: the divergence-free part of the manufactured field", "1",
+       Schema::object("")
+           .field("probe", Schema::string().doc("the name of the fluid's velocity_error probe"))
+           .field("norm",
+                  Schema::string("rms")
+                      .one_of({"rms", "max"})
+                      .doc("'rms': √(Σ e² / Σ w²) over the faces; 'max': max |e| / max |w|"))
+           .field("fluid", fluid_param()),
+       [](Json& params, const Json& scene) -> std::string {
+         if (!scene.contains("fluid"))
+           return "this measure reads a probe of the fluid, but the base scene has no \"fluid\"";
+         const Json& fluid = scene["fluid"];
+         const std::string probe = params["probe"];
+         bool found = false;
+         for (const auto& p : fluid.value("probes", Json::array()))
+           found =
+               found || (p.value("name", "") == probe && p.value("type", "") == "velocity_error");
+         if (!found)
+           return "\"probe\": the scene's fluid has no velocity_error probe named '" + probe +
+                  "' (add one under /fluid/probes)";
+         params["column"] = fluid.value("name", "") + "." + probe + "." +
+                            params["norm"].get<std::string>() + "_error";
+         return "";
+       },
+       [](const RunOutputs& run, const Json& p) {
+         return projection_error(run.metrics.column(p["column"]));
+       }});
+  r.push_back(
+      {"kinetic_energy_loss",
+       "a fluid's kinetic energy at the end against an exact solution that keeps it (inviscid "
+       "Euler: the Taylor–Green vortex): |K(T) − K0| / K0, K from <fluid>.kinetic_energy",
+       "analytic: K0, the initial energy (Taylor–Green in a cube of side L: ρ U² L³ / 8)", "1",
+       Schema::object("")
+           .field("initial", Schema::number()
+                                 .min(0.0, false)
+                                 .unit("J")
+                                 .doc("K0: the analytic kinetic energy at t = 0"))
+           .field("fluid", fluid_param()),
+       bind_fluid_column("kinetic_energy"), [](const RunOutputs& run, const Json& p) {
+         return kinetic_energy_loss(run.metrics.column(p["column"]), p["initial"]);
+       }});
   {
     ErrorMeasure m{
         "against_finest",
@@ -273,6 +320,18 @@ double free_fall_error(const std::vector<double>& time, const std::vector<double
   const double drop = 0.5 * g * time.back() * time.back();
   if (!(drop > 0.0)) throw MeasureError("free_fall: no drop (zero gravity or no time)");
   return max_abs(error) / drop;
+}
+
+double projection_error(const std::vector<double>& velocity_error) {
+  if (velocity_error.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+  return max_abs({velocity_error.front()});
+}
+
+double kinetic_energy_loss(const std::vector<double>& kinetic, double initial) {
+  if (kinetic.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+  if (!(initial > 0.0))
+    throw MeasureError("kinetic_energy_loss: the initial energy is not positive");
+  return max_abs({(kinetic.back() - initial) / initial});
 }
 
 double idle_work(const std::vector<double>& counter) {

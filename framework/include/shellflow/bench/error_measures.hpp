@@ -67,6 +67,19 @@ double standing_wave_period_error(const std::vector<double>& time,
                                   const std::vector<double>& surface, double depth,
                                   double wavelength, double g);
 
+/// One projection's error against a manufactured solution: the first step's value of a
+/// grid_fluid "velocity_error" probe column (|u − w| relative to w, the divergence-free part
+/// of a field made of w plus a gradient, analytic_velocity.hpp). The first step only: later
+/// steps add advection's error. Its Δt must be short, as its advection moves the field by
+/// |u| Δt before the projection. Known answer: 0 (an exact projection returns w).
+double projection_error(const std::vector<double>& velocity_error);
+
+/// Kinetic energy against an exact solution that keeps it (inviscid Euler: the
+/// Taylor–Green vortex while it stays smooth): |K(T) − K0| / K0 with K(T) the last step's
+/// `kinetic` and K0 the analytic initial energy. Semi-Lagrangian advection dissipates, so it
+/// is the energy lost. Known answer: 0.
+double kinetic_energy_loss(const std::vector<double>& kinetic, double initial);
+
 /// Work a scene does not need ("cost follows need"): max over steps of a counter a plugin
 /// reports (grid_fluid's band_nodes with no shells, coupling_faces with no two-way shell,
 /// fmm_marched_nodes in smoke, ...). Known answer: 0. An empty column (never written)
