@@ -1,5 +1,6 @@
 #include "shellflow/bench/error_measures.hpp"
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -256,6 +257,41 @@ std::vector<ErrorMeasure> make_registry() {
        bind_fluid_column("kinetic_energy"), [](const RunOutputs& run, const Json& p) {
          return kinetic_energy_loss(run.metrics.column(p["column"]), p["initial"]);
        }});
+  r.push_back(
+      {"momentum_balance",
+       "a free solid's momentum change against the impulses of the fluid's coupling forces: "
+       "max over steps of |(p_n − p_1) − Σ_{k=2..n} F_k Δt_k| / max |p|, p from "
+       "<solid>.momentum_x/y/z, F from <fluid>.coupling_force_x/y/z (no gravity)",
+       "conserved: momentum exchanged through the §5.1 coupling impulses", "1",
+       Schema::object("")
+           .field("solid", Schema::string().doc("the solid's instance name (it reports "
+                                                "momentum_x, momentum_y, momentum_z)"))
+           .field("fluid", fluid_param()),
+       [](Json& params, const Json& scene) -> std::string {
+         if (const std::string problem = bind_fluid_column("coupling_force")(params, scene);
+             !problem.empty())
+           return problem;
+         params["force"] = params["column"];
+         params.erase("column");
+         params["momentum"] = params["solid"].get<std::string>() + ".momentum";
+         if (const std::string problem = check_column(params, "momentum", scene); !problem.empty())
+           return problem;
+         const Json& g = scene.value("gravity", Json::array({0.0, 0.0, 0.0}));
+         for (const auto& c : g)
+           if (c.get<double>() != 0.0)
+             return "momentum_balance needs a scene without gravity (its impulse is not "
+                    "reported): set \"gravity\": [0, 0, 0]";
+         return "";
+       },
+       [](const RunOutputs& run, const Json& p) {
+         std::array<std::vector<double>, 3> force, momentum;
+         const char* axes[3] = {"_x", "_y", "_z"};
+         for (int a = 0; a < 3; ++a) {
+           force[a] = run.metrics.column(p["force"].get<std::string>() + axes[a]);
+           momentum[a] = run.metrics.column(p["momentum"].get<std::string>() + axes[a]);
+         }
+         return momentum_balance(run.metrics.column("dt"), force, momentum);
+       }});
   {
     ErrorMeasure m{
         "against_finest",
@@ -332,6 +368,29 @@ double kinetic_energy_loss(const std::vector<double>& kinetic, double initial) {
   if (!(initial > 0.0))
     throw MeasureError("kinetic_energy_loss: the initial energy is not positive");
   return max_abs({(kinetic.back() - initial) / initial});
+}
+
+double momentum_balance(const std::vector<double>& dt,
+                        const std::array<std::vector<double>, 3>& force,
+                        const std::array<std::vector<double>, 3>& momentum) {
+  for (int a = 0; a < 3; ++a) {
+    same_length(dt, force[a]);
+    same_length(dt, momentum[a]);
+  }
+  if (dt.size() < 2) throw MeasureError("momentum_balance: needs two steps or more");
+  double scale = 0.0;
+  std::vector<double> residual(dt.size(), 0.0);
+  Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
+  const auto p = [&](size_t n) {
+    return Eigen::Vector3d(momentum[0][n], momentum[1][n], momentum[2][n]);
+  };
+  for (size_t n = 0; n < dt.size(); ++n) {
+    if (n > 0) impulse += dt[n] * Eigen::Vector3d(force[0][n], force[1][n], force[2][n]);
+    residual[n] = (p(n) - p(0) - impulse).norm();
+    scale = std::max(scale, p(n).norm());
+  }
+  if (!(scale > 0.0)) throw MeasureError("momentum_balance: the solid never moves");
+  return max_abs(residual) / scale;
 }
 
 double idle_work(const std::vector<double>& counter) {

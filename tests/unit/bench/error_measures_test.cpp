@@ -77,6 +77,24 @@ TEST(ErrorMeasures, KineticEnergyLossAgainstTheInitialEnergy) {
   EXPECT_THROW(kinetic_energy_loss({0.1}, 0.0), MeasureError);
 }
 
+TEST(ErrorMeasures, MomentumBalanceOfImpulses) {
+  // p_1 = (1, 0, 0.5); then impulses F Δt of (−0.1, 0.2, 0) and (0.2, 0, −0.05): a body that
+  // took exactly these has no error. The first row's own impulse is not needed (p_1 is the
+  // start).
+  const std::vector<double> dt = {0.1, 0.1, 0.05};
+  const std::array<std::vector<double>, 3> force = {
+      std::vector<double>{7.0, -1.0, 4.0}, {7.0, 2.0, 0.0}, {7.0, 0.0, -1.0}};
+  std::array<std::vector<double>, 3> p = {
+      std::vector<double>{1.0, 0.9, 1.1}, {0.0, 0.2, 0.2}, {0.5, 0.5, 0.45}};
+  EXPECT_NEAR(momentum_balance(dt, force, p), 0.0, kRoundOff);
+  // 0.01 more momentum at the end than the impulses explain, over the largest |p| there.
+  p[0][2] += 0.01;
+  const double largest = std::sqrt(1.11 * 1.11 + 0.2 * 0.2 + 0.45 * 0.45);
+  EXPECT_NEAR(momentum_balance(dt, force, p), 0.01 / largest, kRoundOff);
+  EXPECT_THROW(momentum_balance({0.1}, {{{1.0}, {1.0}, {1.0}}}, {{{1.0}, {1.0}, {1.0}}}),
+               MeasureError);
+}
+
 TEST(ErrorMeasures, IdleWorkIsTheLargestCount) {
   EXPECT_EQ(idle_work({0.0, 0.0, 0.0}), 0.0);
   EXPECT_EQ(idle_work({0.0, 12.0, 3.0}), 12.0);

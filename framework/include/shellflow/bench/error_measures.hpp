@@ -8,6 +8,7 @@
 // a registry entry that reads its parameters, fills in the columns from the scene's
 // instance names and calls it.
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -79,6 +80,16 @@ double projection_error(const std::vector<double>& velocity_error);
 /// `kinetic` and K0 the analytic initial energy. Semi-Lagrangian advection dissipates, so it
 /// is the energy lost. Known answer: 0.
 double kinetic_energy_loss(const std::vector<double>& kinetic, double initial);
+
+/// A free body's momentum against the impulses the fluid gave it (§5.1, §6): with the
+/// body's momentum p_n and the fluid's total coupling force F_n and step Δt_n at each row n
+/// (three components each), max over n of |(p_n − p_1) − Σ_{k=2..n} F_k Δt_k| / max_n |p_n|.
+/// The coupling loop hands each step's impulse F Δt to the solids whatever step they take
+/// (impulse-matched forces), so without gravity or other forces the balance is exact.
+/// Known answer: 0 (round-off). Needs two rows.
+double momentum_balance(const std::vector<double>& dt,
+                        const std::array<std::vector<double>, 3>& force,
+                        const std::array<std::vector<double>, 3>& momentum);
 
 /// Work a scene does not need ("cost follows need"): max over steps of a counter a plugin
 /// reports (grid_fluid's band_nodes with no shells, coupling_faces with no two-way shell,
