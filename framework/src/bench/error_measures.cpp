@@ -292,6 +292,28 @@ std::vector<ErrorMeasure> make_registry() {
          }
          return momentum_balance(run.metrics.column("dt"), force, momentum);
        }});
+  r.push_back(
+      {"hanging_strip_stretch",
+       "a strip hanging from its top edge, at rest: its centre of mass's drop against linear "
+       "elasticity's ρ g L² / (3E), |drop − ρgL²/(3E)| / (ρgL²/(3E)), the drop read from a "
+       "centre-height column at the last step",
+       "analytic: linear elasticity of a hanging strip (its uniaxial modulus E given)", "1",
+       Schema::object("")
+           .field("column", Schema::string().doc("the centre's height, e.g. cloth.center_y"))
+           .field("rest_height", Schema::number().unit("m").doc("the centre's height unstretched"))
+           .field("length", Schema::number().min(0.0, false).unit("m").doc("L: hanging length"))
+           .field("surface_density", Schema::number().min(0.0, false).unit("kg/m^2").doc("ρ"))
+           .field("modulus", Schema::number()
+                                 .min(0.0, false)
+                                 .unit("N/m")
+                                 .doc("E: the sheet's uniaxial modulus per width (force per width "
+                                      "per strain, free to contract sideways)")),
+       [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
+       [](const RunOutputs& run, const Json& p) {
+         return hanging_strip_stretch(run.metrics.column(p["column"]), p["rest_height"],
+                                      p["length"], p["surface_density"], p["modulus"],
+                                      gravity_of(run));
+       }});
   {
     ErrorMeasure m{
         "against_finest",
@@ -391,6 +413,15 @@ double momentum_balance(const std::vector<double>& dt,
   }
   if (!(scale > 0.0)) throw MeasureError("momentum_balance: the solid never moves");
   return max_abs(residual) / scale;
+}
+
+double hanging_strip_stretch(const std::vector<double>& center_height, double rest_height,
+                             double length, double density, double modulus, double g) {
+  if (center_height.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+  const double expected = density * g * length * length / (3.0 * modulus);
+  if (!(expected > 0.0))
+    throw MeasureError("hanging_strip_stretch: no expected drop (zero gravity or density)");
+  return max_abs({((rest_height - center_height.back()) - expected) / expected});
 }
 
 double idle_work(const std::vector<double>& counter) {

@@ -95,6 +95,16 @@ TEST(ErrorMeasures, MomentumBalanceOfImpulses) {
                MeasureError);
 }
 
+TEST(ErrorMeasures, HangingStripStretchAgainstLinearElasticity) {
+  // ρ = 0.1 kg/m², E = 40 N/m, L = 1 m: the centre drops ρgL²/(3E) = 0.981/120 m. A centre
+  // that ends 10% lower than that is a 0.1 error; only the last step counts.
+  const double expected = 0.1 * kG / 120.0;
+  EXPECT_NEAR(hanging_strip_stretch({0.4, 0.5 - 1.1 * expected}, 0.5, 1.0, 0.1, 40.0, kG), 0.1,
+              kRoundOff);
+  EXPECT_NEAR(hanging_strip_stretch({0.5 - expected}, 0.5, 1.0, 0.1, 40.0, kG), 0.0, kRoundOff);
+  EXPECT_THROW(hanging_strip_stretch({0.5}, 0.5, 1.0, 0.1, 40.0, 0.0), MeasureError);
+}
+
 TEST(ErrorMeasures, IdleWorkIsTheLargestCount) {
   EXPECT_EQ(idle_work({0.0, 0.0, 0.0}), 0.0);
   EXPECT_EQ(idle_work({0.0, 12.0, 3.0}), 12.0);

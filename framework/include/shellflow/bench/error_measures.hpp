@@ -91,6 +91,14 @@ double momentum_balance(const std::vector<double>& dt,
                         const std::array<std::vector<double>, 3>& force,
                         const std::array<std::vector<double>, 3>& momentum);
 
+/// A strip of length L hanging from its top edge under its own weight: linear elasticity
+/// gives a strain ρ g (L − s) / E at distance s below the top, so its centre of mass drops by
+/// ρ g L² / (3E) (ρ: mass per area, E: uniaxial modulus per width [N/m]). Error:
+/// |(rest − h_end) − ρ g L² / (3E)| / (ρ g L² / (3E)), h the centre's height column at the
+/// last step (the run must have come to rest).
+double hanging_strip_stretch(const std::vector<double>& center_height, double rest_height,
+                             double length, double density, double modulus, double g);
+
 /// Work a scene does not need ("cost follows need"): max over steps of a counter a plugin
 /// reports (grid_fluid's band_nodes with no shells, coupling_faces with no two-way shell,
 /// fmm_marched_nodes in smoke, ...). Known answer: 0. An empty column (never written)
