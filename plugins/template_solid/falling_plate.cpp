@@ -114,6 +114,10 @@ void FallingPlate::report(sdk::Metrics& out) const {
       0.5 * m_angular_velocity.dot(R * m_body_inertia * R.transpose() * m_angular_velocity);
   out.set("kinetic_energy", 0.5 * m_mass * m_velocity.squaredNorm() + rotational);
   out.set("height", m_center.dot(-m_gravity.normalized()));
+  // Linear momentum m v: what the fluid's coupling impulses add up to (bench's momentum_balance).
+  out.set("momentum_x", m_mass * m_velocity.x());
+  out.set("momentum_y", m_mass * m_velocity.y());
+  out.set("momentum_z", m_mass * m_velocity.z());
 }
 
 }  // namespace shellflow::template_solid

@@ -1,5 +1,6 @@
 #include "shellflow/grid_fluid/fluid_probes.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -38,12 +39,19 @@ Schema FluidProbes::schema() {
                              .field("name", Schema::string().doc("column prefix: "
                                                                  "<fluid>.<name>.extent [m]"))
                              .field("from", Schema::vec3().unit("m").doc("start of the segment"))
-                             .field("to", Schema::vec3().unit("m").doc("end of the segment"))))
+                             .field("to", Schema::vec3().unit("m").doc("end of the segment")))
+                 .option("velocity_error",
+                         Schema::object("the face velocities against an analytic field")
+                             .field("name", Schema::string().doc(
+                                                "column prefix: <fluid>.<name>.max_error and "
+                                                ".rms_error (relative to the field's size)"))
+                             .field("reference", AnalyticVelocity::schema())))
       .default_value(nlohmann::json::array())
       .doc("figures of regions and lines written to metrics.csv (for known answers)");
 }
 
-FluidProbes::FluidProbes(const nlohmann::json& probes, const std::string& path) {
+FluidProbes::FluidProbes(const nlohmann::json& probes, const std::string& path,
+                         const grid::UniformGrid& grid) {
   for (size_t i = 0; i < probes.size(); ++i) {
     const auto& p = probes[i];
     Probe probe;
@@ -62,6 +70,20 @@ FluidProbes::FluidProbes(const nlohmann::json& probes, const std::string& path) 
       probe.b = sdk::json_vec3(p, "max");
       if ((probe.b.array() < probe.a.array()).any())
         throw ConfigError(here + "/max", "each coordinate of max must be >= min's");
+    } else if (p.at("type") == "velocity_error") {
+      probe.type = Type::VelocityError;
+      // Sampled once: the reference does not change, the report is then a plain sum.
+      MacGrid sampled(grid);
+      AnalyticVelocity(p.at("reference"), grid).fill(sampled);
+      double largest = 0.0;
+      for (int a = 0; a < 3; ++a) {
+        probe.reference[a] = sampled.face_velocity(a);
+        for (const double w : probe.reference[a]) largest = std::max(largest, std::abs(w));
+      }
+      if (largest == 0.0)
+        throw ConfigError(here + "/reference",
+                          "the reference field is zero everywhere: an error relative to it "
+                          "has no scale (give an amplitude)");
     } else {
       probe.type = Type::WaterExtent;
       probe.a = sdk::json_vec3(p, "from");
@@ -73,8 +95,9 @@ FluidProbes::FluidProbes(const nlohmann::json& probes, const std::string& path) 
   }
 }
 
-void FluidProbes::report(sdk::Metrics& out, const grid::UniformGrid& grid,
-                         const std::vector<double>& density, const LevelSet* level_set) const {
+void FluidProbes::report(sdk::Metrics& out, const MacGrid& mac, const std::vector<double>& density,
+                         const LevelSet* level_set) const {
+  const grid::UniformGrid& grid = mac.grid();
   const double dx = grid.dx();
   const double cell = dx * dx * dx;
   const Eigen::Vector3i n = grid.counts(Location::Node);
@@ -99,6 +122,21 @@ void FluidProbes::report(sdk::Metrics& out, const grid::UniformGrid& grid,
               }
             }
       out.set(p.name + (level_set ? ".water_volume" : ".smoke_mass"), sum * cell);
+    } else if (p.type == Type::VelocityError) {
+      double max_error = 0.0, max_reference = 0.0, error_squares = 0.0, reference_squares = 0.0;
+      for (int a = 0; a < 3; ++a) {
+        const auto& u = mac.face_velocity(a);
+        const auto& w = p.reference[a];
+        for (size_t f = 0; f < u.size(); ++f) {
+          const double e = u[f] - w[f];
+          max_error = std::max(max_error, std::abs(e));
+          max_reference = std::max(max_reference, std::abs(w[f]));
+          error_squares += e * e;
+          reference_squares += w[f] * w[f];
+        }
+      }
+      out.set(p.name + ".max_error", max_error / max_reference);
+      out.set(p.name + ".rms_error", std::sqrt(error_squares / reference_squares));
     } else {
       double extent = 0.0;
       if (level_set) {

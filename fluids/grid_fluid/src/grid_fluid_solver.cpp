@@ -136,6 +136,10 @@ sdk::Schema GridFluid::schema() {
                             .default_value(Schema::Json::array())
                             .doc("smoke emitters (spheres and boxes)"))
       .field("water", Liquid::schema().optional())
+      .field("initial_velocity",
+             AnalyticVelocity::schema().optional().doc(
+                 "the velocity at t = 0 (default: at rest): an analytic field for known "
+                 "answers (Taylor–Green's decay, a manufactured projection)"))
       .field("probes", FluidProbes::schema());
 }
 
@@ -177,10 +181,15 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
     m_sources.emplace_back(sources[i], "/sources/" + std::to_string(i));
     m_temperature = m_temperature || m_sources.back().temperature().has_value();
   }
-  m_probes = FluidProbes(params.at("probes"), "/probes");
+  m_probes = FluidProbes(params.at("probes"), "/probes", m_mac.grid());
   m_nodes = NodeFields(m_mac.grid(), m_buoyancy.ambient_temperature, m_liquid == nullptr);
   m_next = m_nodes;
   for (auto& u : m_u_n) u.assign(m_nodes.size(), 0.0);
+  if (params.contains("initial_velocity") && !params.at("initial_velocity").is_null()) {
+    // Faces only: advect() transfers them to the nodes before its first step (§4.2).
+    AnalyticVelocity(params.at("initial_velocity"), m_mac.grid()).fill(m_mac);
+    m_nodes_current = false;
+  }
   apply_boundary_velocities(m_mac, m_boundary);
   const Eigen::Vector3i c = m_mac.grid().cells();
   if (m_liquid) {
@@ -612,8 +621,7 @@ void GridFluid::report(sdk::Metrics& out) const {
   out.set("coupling_force_y", c.total_force.y());
   out.set("coupling_force_z", c.total_force.z());
   out.set("coupling_triangles_without_jump", static_cast<double>(c.triangles_without_jump));
-  m_probes.report(out, m_mac.grid(), m_nodes.density(),
-                  m_liquid ? &m_liquid->level_set() : nullptr);
+  m_probes.report(out, m_mac, m_nodes.density(), m_liquid ? &m_liquid->level_set() : nullptr);
 }
 
 std::vector<sdk::PlanEntry> GridFluid::plan() const {

@@ -122,7 +122,12 @@ std::vector<RunRecord> run_bench(const BenchSpec& spec, const BenchOptions& opti
           const double elapsed =
               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
           const double eta = elapsed / finished * (points.size() - finished);
-          const RunRecord& r = records[i];
+          // As results.csv has it: an against_finest value compared with the finest run so
+          // far (empty for that run itself), not the raw column value.
+          const RunRecord* shown = &records[i];
+          for (const auto& k : kept)
+            if (k.point.id == points[i].id) shown = &k;
+          const RunRecord& r = *shown;
           std::string errors;
           for (size_t m = 0; m < spec.measures.size(); ++m)
             if (!std::isnan(r.errors[m]))

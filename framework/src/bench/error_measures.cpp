@@ -1,5 +1,6 @@
 #include "shellflow/bench/error_measures.hpp"
 
+#include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -209,6 +210,110 @@ std::vector<ErrorMeasure> make_registry() {
                                            run.metrics.column(p["surface"]), p["depth"],
                                            p["wavelength"], gravity_of(run));
        }});
+  r.push_back(
+      {"projection_error",
+       "one projection of a manufactured field (the divergence-free Taylor–Green vortex plus a "
+       "gradient, grid_fluid's \"initial_velocity\") against its divergence-free part: the first "
+       "step's value of a grid_fluid \"velocity_error\" probe (the scene's first step must be "
+       "short: its advection moves the field by |u| Δt)",
+       "analytic: the divergence-free part of the manufactured field", "1",
+       Schema::object("")
+           .field("probe", Schema::string().doc("the name of the fluid's velocity_error probe"))
+           .field("norm",
+                  Schema::string("rms")
+                      .one_of({"rms", "max"})
+                      .doc("'rms': √(Σ e² / Σ w²) over the faces; 'max': max |e| / max |w|"))
+           .field("fluid", fluid_param()),
+       [](Json& params, const Json& scene) -> std::string {
+         if (!scene.contains("fluid"))
+           return "this measure reads a probe of the fluid, but the base scene has no \"fluid\"";
+         const Json& fluid = scene["fluid"];
+         const std::string probe = params["probe"];
+         bool found = false;
+         for (const auto& p : fluid.value("probes", Json::array()))
+           found =
+               found || (p.value("name", "") == probe && p.value("type", "") == "velocity_error");
+         if (!found)
+           return "\"probe\": the scene's fluid has no velocity_error probe named '" + probe +
+                  "' (add one under /fluid/probes)";
+         params["column"] = fluid.value("name", "") + "." + probe + "." +
+                            params["norm"].get<std::string>() + "_error";
+         return "";
+       },
+       [](const RunOutputs& run, const Json& p) {
+         return projection_error(run.metrics.column(p["column"]));
+       }});
+  r.push_back(
+      {"kinetic_energy_loss",
+       "a fluid's kinetic energy at the end against an exact solution that keeps it (inviscid "
+       "Euler: the Taylor–Green vortex): |K(T) − K0| / K0, K from <fluid>.kinetic_energy",
+       "analytic: K0, the initial energy (Taylor–Green in a cube of side L: ρ U² L³ / 8)", "1",
+       Schema::object("")
+           .field("initial", Schema::number()
+                                 .min(0.0, false)
+                                 .unit("J")
+                                 .doc("K0: the analytic kinetic energy at t = 0"))
+           .field("fluid", fluid_param()),
+       bind_fluid_column("kinetic_energy"), [](const RunOutputs& run, const Json& p) {
+         return kinetic_energy_loss(run.metrics.column(p["column"]), p["initial"]);
+       }});
+  r.push_back(
+      {"momentum_balance",
+       "a free solid's momentum change against the impulses of the fluid's coupling forces: "
+       "max over steps of |(p_n − p_1) − Σ_{k=2..n} F_k Δt_k| / max |p|, p from "
+       "<solid>.momentum_x/y/z, F from <fluid>.coupling_force_x/y/z (no gravity)",
+       "conserved: momentum exchanged through the §5.1 coupling impulses", "1",
+       Schema::object("")
+           .field("solid", Schema::string().doc("the solid's instance name (it reports "
+                                                "momentum_x, momentum_y, momentum_z)"))
+           .field("fluid", fluid_param()),
+       [](Json& params, const Json& scene) -> std::string {
+         if (const std::string problem = bind_fluid_column("coupling_force")(params, scene);
+             !problem.empty())
+           return problem;
+         params["force"] = params["column"];
+         params.erase("column");
+         params["momentum"] = params["solid"].get<std::string>() + ".momentum";
+         if (const std::string problem = check_column(params, "momentum", scene); !problem.empty())
+           return problem;
+         const Json& g = scene.value("gravity", Json::array({0.0, 0.0, 0.0}));
+         for (const auto& c : g)
+           if (c.get<double>() != 0.0)
+             return "momentum_balance needs a scene without gravity (its impulse is not "
+                    "reported): set \"gravity\": [0, 0, 0]";
+         return "";
+       },
+       [](const RunOutputs& run, const Json& p) {
+         std::array<std::vector<double>, 3> force, momentum;
+         const char* axes[3] = {"_x", "_y", "_z"};
+         for (int a = 0; a < 3; ++a) {
+           force[a] = run.metrics.column(p["force"].get<std::string>() + axes[a]);
+           momentum[a] = run.metrics.column(p["momentum"].get<std::string>() + axes[a]);
+         }
+         return momentum_balance(run.metrics.column("dt"), force, momentum);
+       }});
+  r.push_back(
+      {"hanging_strip_stretch",
+       "a strip hanging from its top edge, at rest: its centre of mass's drop against linear "
+       "elasticity's ρ g L² / (3E), |drop − ρgL²/(3E)| / (ρgL²/(3E)), the drop read from a "
+       "centre-height column at the last step",
+       "analytic: linear elasticity of a hanging strip (its uniaxial modulus E given)", "1",
+       Schema::object("")
+           .field("column", Schema::string().doc("the centre's height, e.g. cloth.center_y"))
+           .field("rest_height", Schema::number().unit("m").doc("the centre's height unstretched"))
+           .field("length", Schema::number().min(0.0, false).unit("m").doc("L: hanging length"))
+           .field("surface_density", Schema::number().min(0.0, false).unit("kg/m^2").doc("ρ"))
+           .field("modulus", Schema::number()
+                                 .min(0.0, false)
+                                 .unit("N/m")
+                                 .doc("E: the sheet's uniaxial modulus per width (force per width "
+                                      "per strain, free to contract sideways)")),
+       [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
+       [](const RunOutputs& run, const Json& p) {
+         return hanging_strip_stretch(run.metrics.column(p["column"]), p["rest_height"],
+                                      p["length"], p["surface_density"], p["modulus"],
+                                      gravity_of(run));
+       }});
   {
     ErrorMeasure m{
         "against_finest",
@@ -273,6 +378,50 @@ double free_fall_error(const std::vector<double>& time, const std::vector<double
   const double drop = 0.5 * g * time.back() * time.back();
   if (!(drop > 0.0)) throw MeasureError("free_fall: no drop (zero gravity or no time)");
   return max_abs(error) / drop;
+}
+
+double projection_error(const std::vector<double>& velocity_error) {
+  if (velocity_error.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+  return max_abs({velocity_error.front()});
+}
+
+double kinetic_energy_loss(const std::vector<double>& kinetic, double initial) {
+  if (kinetic.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+  if (!(initial > 0.0))
+    throw MeasureError("kinetic_energy_loss: the initial energy is not positive");
+  return max_abs({(kinetic.back() - initial) / initial});
+}
+
+double momentum_balance(const std::vector<double>& dt,
+                        const std::array<std::vector<double>, 3>& force,
+                        const std::array<std::vector<double>, 3>& momentum) {
+  for (int a = 0; a < 3; ++a) {
+    same_length(dt, force[a]);
+    same_length(dt, momentum[a]);
+  }
+  if (dt.size() < 2) throw MeasureError("momentum_balance: needs two steps or more");
+  double scale = 0.0;
+  std::vector<double> residual(dt.size(), 0.0);
+  Eigen::Vector3d impulse = Eigen::Vector3d::Zero();
+  const auto p = [&](size_t n) {
+    return Eigen::Vector3d(momentum[0][n], momentum[1][n], momentum[2][n]);
+  };
+  for (size_t n = 0; n < dt.size(); ++n) {
+    if (n > 0) impulse += dt[n] * Eigen::Vector3d(force[0][n], force[1][n], force[2][n]);
+    residual[n] = (p(n) - p(0) - impulse).norm();
+    scale = std::max(scale, p(n).norm());
+  }
+  if (!(scale > 0.0)) throw MeasureError("momentum_balance: the solid never moves");
+  return max_abs(residual) / scale;
+}
+
+double hanging_strip_stretch(const std::vector<double>& center_height, double rest_height,
+                             double length, double density, double modulus, double g) {
+  if (center_height.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+  const double expected = density * g * length * length / (3.0 * modulus);
+  if (!(expected > 0.0))
+    throw MeasureError("hanging_strip_stretch: no expected drop (zero gravity or density)");
+  return max_abs({((rest_height - center_height.back()) - expected) / expected});
 }
 
 double idle_work(const std::vector<double>& counter) {

@@ -74,6 +74,30 @@ TEST(FluidProbes, SmokeMassInABox) {
   EXPECT_EQ(reported(*fluid, "left.smoke_mass"), 9.0 * 17.0 * 17.0 / 4096.0);
 }
 
+TEST(FluidProbes, VelocityErrorAgainstTheInitialField) {
+  // The faces start as the Taylor–Green vortex of amplitude 1.1 and the probe's reference
+  // is the same vortex at amplitude 1: every face is off by 0.1 of its reference value, so
+  // both relative errors are 0.1 (the walls' zero faces are exact in both).
+  const nlohmann::json vortex = {{"type", "taylor_green"}, {"amplitude", 1.0}};
+  const nlohmann::json probe = {{"type", "velocity_error"}, {"name", "tg"}, {"reference", vortex}};
+  const auto off =
+      test::make_fluid({{"resolution", 8},
+                        {"initial_velocity", {{"type", "taylor_green"}, {"amplitude", 1.1}}},
+                        {"probes", {probe}}});
+  EXPECT_NEAR(reported(*off, "tg.max_error"), 0.1, kRoundOff);
+  EXPECT_NEAR(reported(*off, "tg.rms_error"), 0.1, kRoundOff);
+  // The same field as the reference: no error but round-off (the walls hold exactly 0 where
+  // the reference holds sin(π) ≈ 1.2e-16).
+  const auto same =
+      test::make_fluid({{"resolution", 8}, {"initial_velocity", vortex}, {"probes", {probe}}});
+  EXPECT_NEAR(reported(*same, "tg.max_error"), 0.0, kRoundOff);
+  EXPECT_NEAR(reported(*same, "tg.rms_error"), 0.0, kRoundOff);
+  // A reference that is zero everywhere gives no scale to an error.
+  nlohmann::json still = probe;
+  still["reference"]["amplitude"] = 0.0;
+  EXPECT_THROW(test::make_fluid({{"probes", {still}}}), ConfigError);
+}
+
 TEST(FluidProbes, NamesAreUniqueColumnPrefixes) {
   const auto probe = [](const std::string& name) {
     return nlohmann::json{{"type", "box"}, {"name", name}, {"min", {0, 0, 0}}, {"max", {1, 1, 1}}};

@@ -60,6 +60,51 @@ TEST(ErrorMeasures, FreeFallOfBackwardEulerIsTheStepOverTheTime) {
   EXPECT_NEAR(free_fall_error(t, h, h0, 1.0, kG), 0.0, kRoundOff);
 }
 
+TEST(ErrorMeasures, ProjectionErrorIsTheFirstStepsOnly) {
+  // Later steps add advection's error to the projection's: only the first row counts.
+  EXPECT_EQ(projection_error({4e-4, 3e-2, 5e-2}), 4e-4);
+  EXPECT_TRUE(std::isnan(projection_error({NAN, 1e-3})));
+  EXPECT_THROW(projection_error({}), MeasureError);
+}
+
+TEST(ErrorMeasures, KineticEnergyLossAgainstTheInitialEnergy) {
+  // Taylor–Green in the unit cube at U = 1, ρ = 1: K0 = 1/8 J. Ending at 0.1 J is 20% lost;
+  // only the last step counts.
+  EXPECT_NEAR(kinetic_energy_loss({0.124, 0.11, 0.1}, 0.125), 0.2, kRoundOff);
+  // A gain is an error of the same size (the measure is never negative).
+  EXPECT_NEAR(kinetic_energy_loss({0.15}, 0.125), 0.2, kRoundOff);
+  EXPECT_EQ(kinetic_energy_loss({0.125}, 0.125), 0.0);
+  EXPECT_THROW(kinetic_energy_loss({0.1}, 0.0), MeasureError);
+}
+
+TEST(ErrorMeasures, MomentumBalanceOfImpulses) {
+  // p_1 = (1, 0, 0.5); then impulses F Δt of (−0.1, 0.2, 0) and (0.2, 0, −0.05): a body that
+  // took exactly these has no error. The first row's own impulse is not needed (p_1 is the
+  // start).
+  const std::vector<double> dt = {0.1, 0.1, 0.05};
+  const std::array<std::vector<double>, 3> force = {
+      std::vector<double>{7.0, -1.0, 4.0}, {7.0, 2.0, 0.0}, {7.0, 0.0, -1.0}};
+  std::array<std::vector<double>, 3> p = {
+      std::vector<double>{1.0, 0.9, 1.1}, {0.0, 0.2, 0.2}, {0.5, 0.5, 0.45}};
+  EXPECT_NEAR(momentum_balance(dt, force, p), 0.0, kRoundOff);
+  // 0.01 more momentum at the end than the impulses explain, over the largest |p| there.
+  p[0][2] += 0.01;
+  const double largest = std::sqrt(1.11 * 1.11 + 0.2 * 0.2 + 0.45 * 0.45);
+  EXPECT_NEAR(momentum_balance(dt, force, p), 0.01 / largest, kRoundOff);
+  EXPECT_THROW(momentum_balance({0.1}, {{{1.0}, {1.0}, {1.0}}}, {{{1.0}, {1.0}, {1.0}}}),
+               MeasureError);
+}
+
+TEST(ErrorMeasures, HangingStripStretchAgainstLinearElasticity) {
+  // ρ = 0.1 kg/m², E = 40 N/m, L = 1 m: the centre drops ρgL²/(3E) = 0.981/120 m. A centre
+  // that ends 10% lower than that is a 0.1 error; only the last step counts.
+  const double expected = 0.1 * kG / 120.0;
+  EXPECT_NEAR(hanging_strip_stretch({0.4, 0.5 - 1.1 * expected}, 0.5, 1.0, 0.1, 40.0, kG), 0.1,
+              kRoundOff);
+  EXPECT_NEAR(hanging_strip_stretch({0.5 - expected}, 0.5, 1.0, 0.1, 40.0, kG), 0.0, kRoundOff);
+  EXPECT_THROW(hanging_strip_stretch({0.5}, 0.5, 1.0, 0.1, 40.0, 0.0), MeasureError);
+}
+
 TEST(ErrorMeasures, IdleWorkIsTheLargestCount) {
   EXPECT_EQ(idle_work({0.0, 0.0, 0.0}), 0.0);
   EXPECT_EQ(idle_work({0.0, 12.0, 3.0}), 12.0);
@@ -151,6 +196,36 @@ TEST_F(HandMadeRun, FreeFallThroughTheRegistryReadsGravityFromRunJson) {
   // An empty cell (a figure not reported at that step) reads as NaN: no error to give.
   params = {{"column", "air.max_speed"}};
   EXPECT_TRUE(std::isnan(find_error_measure("still_fluid_speed")->evaluate(run, params)));
+}
+
+TEST_F(HandMadeRun, ProjectionAndEnergyMeasuresThroughTheRegistry) {
+  std::ofstream csv(m_dir / "metrics.csv");
+  csv << "step,frame,time,dt,air.vortex.rms_error,air.vortex.max_error,air.kinetic_energy\n"
+      << "1,0,0.1,0.1,0.00125,0.0025,0.12\n"
+      << "2,0,0.2,0.1,0.5,0.75,0.1\n";
+  csv.close();
+  const auto run = RunOutputs::read(m_dir);
+  // The registry's bind turns the probe's name into its column (as load_bench_spec does).
+  const nlohmann::json scene = {
+      {"fluid", {{"name", "air"}, {"probes", {{{"type", "velocity_error"}, {"name", "vortex"}}}}}}};
+  const auto* projection = find_error_measure("projection_error");
+  ASSERT_NE(projection, nullptr);
+  nlohmann::json params = {{"probe", "vortex"}, {"norm", "max"}};
+  ASSERT_EQ(projection->bind(params, scene), "");
+  EXPECT_EQ(params["column"], "air.vortex.max_error");
+  EXPECT_EQ(projection->evaluate(run, params), 0.0025);
+  params = {{"probe", "vortex"}, {"norm", "rms"}};
+  ASSERT_EQ(projection->bind(params, scene), "");
+  EXPECT_EQ(projection->evaluate(run, params), 0.00125);
+  // A probe the scene does not have is named before anything runs.
+  params = {{"probe", "vortx"}, {"norm", "rms"}};
+  EXPECT_THAT(projection->bind(params, scene), HasSubstr("no velocity_error probe named 'vortx'"));
+
+  const auto* energy = find_error_measure("kinetic_energy_loss");
+  ASSERT_NE(energy, nullptr);
+  params = {{"initial", 0.125}};
+  ASSERT_EQ(energy->bind(params, scene), "");
+  EXPECT_NEAR(energy->evaluate(run, params), 0.2, kRoundOff);  // 0.1 J left of 0.125 J
 }
 
 TEST_F(HandMadeRun, MissingColumnNamesTheColumnsThereAre) {

@@ -8,6 +8,7 @@
 // a registry entry that reads its parameters, fills in the columns from the scene's
 // instance names and calls it.
 
+#include <array>
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -66,6 +67,37 @@ double dam_break_front_error(const std::vector<double>& time, const std::vector<
 double standing_wave_period_error(const std::vector<double>& time,
                                   const std::vector<double>& surface, double depth,
                                   double wavelength, double g);
+
+/// One projection's error against a manufactured solution: the first step's value of a
+/// grid_fluid "velocity_error" probe column (|u − w| relative to w, the divergence-free part
+/// of a field made of w plus a gradient, analytic_velocity.hpp). The first step only: later
+/// steps add advection's error. Its Δt must be short, as its advection moves the field by
+/// |u| Δt before the projection. Known answer: 0 (an exact projection returns w).
+double projection_error(const std::vector<double>& velocity_error);
+
+/// Kinetic energy against an exact solution that keeps it (inviscid Euler: the
+/// Taylor–Green vortex while it stays smooth): |K(T) − K0| / K0 with K(T) the last step's
+/// `kinetic` and K0 the analytic initial energy. Semi-Lagrangian advection dissipates, so it
+/// is the energy lost. Known answer: 0.
+double kinetic_energy_loss(const std::vector<double>& kinetic, double initial);
+
+/// A free body's momentum against the impulses the fluid gave it (§5.1, §6): with the
+/// body's momentum p_n and the fluid's total coupling force F_n and step Δt_n at each row n
+/// (three components each), max over n of |(p_n − p_1) − Σ_{k=2..n} F_k Δt_k| / max_n |p_n|.
+/// The coupling loop hands each step's impulse F Δt to the solids whatever step they take
+/// (impulse-matched forces), so without gravity or other forces the balance is exact.
+/// Known answer: 0 (round-off). Needs two rows.
+double momentum_balance(const std::vector<double>& dt,
+                        const std::array<std::vector<double>, 3>& force,
+                        const std::array<std::vector<double>, 3>& momentum);
+
+/// A strip of length L hanging from its top edge under its own weight: linear elasticity
+/// gives a strain ρ g (L − s) / E at distance s below the top, so its centre of mass drops by
+/// ρ g L² / (3E) (ρ: mass per area, E: uniaxial modulus per width [N/m]). Error:
+/// |(rest − h_end) − ρ g L² / (3E)| / (ρ g L² / (3E)), h the centre's height column at the
+/// last step (the run must have come to rest).
+double hanging_strip_stretch(const std::vector<double>& center_height, double rest_height,
+                             double length, double density, double modulus, double g);
 
 /// Work a scene does not need ("cost follows need"): max over steps of a counter a plugin
 /// reports (grid_fluid's band_nodes with no shells, coupling_faces with no two-way shell,

@@ -7,13 +7,21 @@
 //                   the last point with φ <= 0 (φ trilinear, sampled every Δx/4, the zero
 //                   crossing interpolated linearly), 0 when the segment is dry. Along the
 //                   floor it is a dam break's front; up a vertical line, the surface height.
+//   "velocity_error" <name>.max_error = max over faces |u_f − w_f| / max over faces |w_f| and
+//                   <name>.rms_error = √(Σ (u_f − w_f)² / Σ w_f²): the face velocities
+//                   against an analytic field w ("reference", analytic_velocity.hpp) sampled
+//                   at the same faces. After the first step of a field made of w plus a
+//                   gradient, it is the projection's error (a manufactured solution).
 
 #include <Eigen/Core>
+#include <array>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "shellflow/grid/uniform_grid.hpp"
+#include "shellflow/grid_fluid/mac/analytic_velocity.hpp"
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/sdk/metrics.hpp"
 #include "shellflow/sdk/schema.hpp"
 
@@ -27,21 +35,24 @@ class FluidProbes {
   FluidProbes() = default;
   /// `probes`: validated against schema(). @throw ConfigError for a duplicate name
   /// (`path`: the probes' JSON path, for messages).
-  FluidProbes(const nlohmann::json& probes, const std::string& path);
+  /// `grid`: where a velocity_error probe samples its reference field.
+  FluidProbes(const nlohmann::json& probes, const std::string& path, const grid::UniformGrid& grid);
 
   /// `density`: the smoke's node density (empty for water); `level_set`: null for smoke.
-  void report(sdk::Metrics& out, const grid::UniformGrid& grid, const std::vector<double>& density,
+  void report(sdk::Metrics& out, const MacGrid& mac, const std::vector<double>& density,
               const LevelSet* level_set) const;
 
   bool empty() const { return m_probes.empty(); }
 
  private:
-  enum class Type { Box, WaterExtent };
+  enum class Type { Box, WaterExtent, VelocityError };
   struct Probe {
     std::string name;
     Type type = Type::Box;
     Eigen::Vector3d a = Eigen::Vector3d::Zero();  ///< box min, or the segment's start
     Eigen::Vector3d b = Eigen::Vector3d::Zero();  ///< box max, or the segment's end
+    /// velocity_error: the reference sampled at the faces, one array per face family
+    std::array<std::vector<double>, 3> reference;
   };
   std::vector<Probe> m_probes;
 };

@@ -34,6 +34,7 @@
 #include "shellflow/geometry/shell_band.hpp"
 #include "shellflow/grid_fluid/fluid_probes.hpp"
 #include "shellflow/grid_fluid/pressure/coupling_pressure.hpp"
+#include "shellflow/grid_fluid/mac/analytic_velocity.hpp"
 #include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
