@@ -24,10 +24,14 @@ enum class Sheet { None, Curtain, TiltedPlate, FoldedPocket };
 
 std::string name_of(Sheet sheet) {
   switch (sheet) {
-    case Sheet::None: return "no sheet";
-    case Sheet::Curtain: return "curtain";
-    case Sheet::TiltedPlate: return "tilted plate";
-    case Sheet::FoldedPocket: return "folded pocket";
+    case Sheet::None:
+      return "no sheet";
+    case Sheet::Curtain:
+      return "curtain";
+    case Sheet::TiltedPlate:
+      return "tilted plate";
+    case Sheet::FoldedPocket:
+      return "folded pocket";
   }
   return "?";
 }
@@ -107,10 +111,17 @@ void add_folded_pocket(GridLaplacian& a, int n) {
 GridLaplacian box_with(Sheet sheet, int n) {
   GridLaplacian a = smoke_box(n);
   switch (sheet) {
-    case Sheet::None: break;
-    case Sheet::Curtain: add_curtain(a, n); break;
-    case Sheet::TiltedPlate: add_tilted_plate(a, n); break;
-    case Sheet::FoldedPocket: add_folded_pocket(a, n); break;
+    case Sheet::None:
+      break;
+    case Sheet::Curtain:
+      add_curtain(a, n);
+      break;
+    case Sheet::TiltedPlate:
+      add_tilted_plate(a, n);
+      break;
+    case Sheet::FoldedPocket:
+      add_folded_pocket(a, n);
+      break;
   }
   return a;
 }
@@ -190,8 +201,8 @@ TEST(MultigridShellSides, SheetCostsAtMostAQuarterMoreIterations) {
     const int plain = iterations_of(box_with(Sheet::None, n));
     for (const Sheet sheet : kSheets) {
       const int cut = iterations_of(box_with(sheet, n));
-      std::printf("%d^3 %s: %d MG-PCG iterations (no sheet: %d)\n", n, name_of(sheet).c_str(),
-                  cut, plain);
+      std::printf("%d^3 %s: %d MG-PCG iterations (no sheet: %d)\n", n, name_of(sheet).c_str(), cut,
+                  plain);
       EXPECT_LE(cut, 1.25 * plain) << name_of(sheet) << " at " << n << "^3";
     }
   }
