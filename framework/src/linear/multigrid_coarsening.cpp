@@ -380,7 +380,9 @@ void coarsen_level(Level& fine, Level& coarse) {
   coarse.link_to.clear();
   coarse.link_weight.clear();
   coarse.row_has_links.clear();
-  if (!merged.empty()) {
+  // Rows exist whenever there are extras (an extra part may have no links at all: a part
+  // reaching only an open domain face, or one enclosed inside its cell).
+  if (!merged.empty() || coarse.extras > 0) {
     coarse.link_start.assign(coarse_unknowns + 1, 0);
     for (const Link& l : merged) {
       ++coarse.link_start[l.a + 1];
@@ -396,7 +398,7 @@ void coarsen_level(Level& fine, Level& coarse) {
       coarse.link_to[next[l.b]] = l.a;
       coarse.link_weight[next[l.b]++] = l.w;
     }
-    coarse.row_has_links.assign(std::int64_t(nc.y()) * nc.z(), 0);
+    coarse.row_has_links.assign(std::int64_t(nc.y()) * nc.z(), 0);  // read only with links
     for (int c = 0; c < coarse_cells; ++c)
       if (coarse.link_start[c + 1] > coarse.link_start[c]) coarse.row_has_links[c / nc.x()] = 1;
   }
