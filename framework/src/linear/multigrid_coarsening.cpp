@@ -93,8 +93,8 @@ struct UnionFind {
 /// keeps the cell's slot; -1: inactive). Per coarse cell: its number of parts.
 void label_parts(const LevelGraph& g, const Eigen::Vector3i& nc, std::vector<int>& local,
                  std::vector<int>& parts) {
-  local.assign(g.cells + g.level.extras, -1);
-  parts.assign(nc.prod(), 0);
+  local.resize(g.cells + g.level.extras);  // every entry written below
+  parts.resize(nc.prod());
   const bool go = nc.prod() >= kParallelThreshold / 8;
 #pragma omp parallel if (go)
   {
@@ -115,6 +115,7 @@ void label_parts(const LevelGraph& g, const Eigen::Vector3i& nc, std::vector<int
               for (int i = lo.x(); i <= hi.x(); ++i) {
                 const Eigen::Vector3i c(i, j, k);
                 const int cell = g.cell(c);
+                local[cell] = -1;  // until labelled
                 if (g.active(cell))
                   members.push_back(cell);
                 else
@@ -122,6 +123,7 @@ void label_parts(const LevelGraph& g, const Eigen::Vector3i& nc, std::vector<int
                 const auto [first, last] = g.extras_of(cell);
                 for (int e = first; e < last; ++e) {
                   simple = false;
+                  local[e] = -1;
                   if (g.active(e)) members.push_back(e);
                 }
                 for (int a = 0; a < 3; ++a)
@@ -229,9 +231,13 @@ void coarsen_level(Level& fine, Level& coarse) {
   const int coarse_cells = nc.prod();
 
   // 1. Parts of each coarse cell and the coarse unknown of every fine one.
-  std::vector<int> local, parts;
+  // Scratch kept in the levels, so that a compute() per step reuses its memory.
+  std::vector<int>& local = fine.scratch_part;
+  std::vector<int>& parts = coarse.scratch_part;
   label_parts(g, nc, local, parts);
-  std::vector<int> extra_start(coarse_cells + 1, 0);
+  std::vector<int>& extra_start = coarse.scratch_extra_start;
+  extra_start.resize(coarse_cells + 1);
+  extra_start[0] = 0;
   for (int c = 0; c < coarse_cells; ++c)
     extra_start[c + 1] = extra_start[c] + std::max(parts[c] - 1, 0);
   coarse.extras = extra_start[coarse_cells];
@@ -243,16 +249,23 @@ void coarsen_level(Level& fine, Level& coarse) {
   else
     coarse.cell_extra_start.clear();
   const int fine_unknowns = fine.unknowns();
-  const auto block_of = [&](int cell) {
-    const Eigen::Vector3i c = g.coords(cell);
-    return c.x() / 2 + nc.x() * (c.y() / 2 + nc.y() * (c.z() / 2));
+  std::vector<int>& of = fine.coarse_part;
+  of.resize(fine_unknowns);
+  const auto coarse_unknown = [&](int part, int block) {
+    return part < 0 ? -1 : part == 0 ? block : coarse_cells + extra_start[block] + part - 1;
   };
-  std::vector<int> of(fine_unknowns);
-#pragma omp parallel for schedule(static) if (fine_unknowns >= kParallelThreshold)
-  for (int u = 0; u < fine_unknowns; ++u) {
-    const int part = local[u];
-    const int block = block_of(g.cell_of(u));
-    of[u] = part < 0 ? -1 : part == 0 ? block : coarse_cells + extra_start[block] + part - 1;
+#pragma omp parallel for collapse(2) schedule(static) if (g.cells >= kParallelThreshold)
+  for (int k = 0; k < g.n.z(); ++k)
+    for (int j = 0; j < g.n.y(); ++j) {
+      const int row = g.n.x() * (j + g.n.y() * k);
+      const int block_row = nc.x() * (j / 2 + nc.y() * (k / 2));
+      for (int i = 0; i < g.n.x(); ++i)
+        of[row + i] = coarse_unknown(local[row + i], block_row + i / 2);
+    }
+  for (int e = 0; e < fine.extras; ++e) {
+    const Eigen::Vector3i c = g.coords(fine.extra_cell[e]);
+    const int block = c.x() / 2 + nc.x() * (c.y() / 2 + nc.y() * (c.z() / 2));
+    of[g.cells + e] = coarse_unknown(local[g.cells + e], block);
   }
 
   // 2. Coarse operator, rediscretised per part: half the fine couplings joining two parts
@@ -264,12 +277,23 @@ void coarsen_level(Level& fine, Level& coarse) {
   for (int a = 0; a < 3; ++a) {
     Eigen::Vector3i faces = nc;
     faces[a] += 1;
-    coarse.weight[a].assign(faces.prod(), 0.0f);
+    auto& w = coarse.weight[a];
+    w.resize(faces.prod());
+    std::fill(w.begin(), w.end(), 0.0f);
     coarse.open[a].clear();
   }
   coarse.ground.assign(coarse_unknowns, 0.0f);
   std::vector<Link> links;
   const bool go = coarse_cells >= kParallelThreshold / 8;
+  std::array<int, 3> face_x{}, face_y{};  // face counts along x and y of each family
+  for (int a = 0; a < 3; ++a) {
+    face_x[a] = g.faces[a].x();
+    face_y[a] = g.faces[a].y();
+  }
+  const std::array<int, 3> cell_stride{1, g.n.x(), g.n.x() * g.n.y()};
+  const std::array<int, 3> coarse_stride{1, nc.x(), nc.x() * nc.y()};
+  const bool members_matter =
+      !fine.dirichlet.empty() || !fine.ground.empty() || fine.has_links() || fine.extras > 0;
 #pragma omp parallel if (go)
   {
     std::vector<Link> mine;
@@ -304,46 +328,51 @@ void coarsen_level(Level& fine, Level& coarse) {
               mine.push_back({std::min(cu, cv), std::max(cu, cv), 0.5f * w});
           };
           for (int a = 0; a < 3; ++a) {
-            // Fine faces on B's low face along a: the + cells lie in B.
+            // Fine faces on B's low face along a (their + cells lie in B), then on its high
+            // face where that is the domain's. Plain index arithmetic: the hot loop of compute().
             const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
-            for (int p = lo[b1]; p <= hi[b1]; ++p)
-              for (int q = lo[b2]; q <= hi[b2]; ++q) {
-                Eigen::Vector3i v;
-                v[a] = lo[a];
-                v[b1] = p;
-                v[b2] = q;
-                const float w = g.face(a, v);
-                if (w <= 0.0f) continue;
-                const int cv = of[g.cell(v)];
-                if (B[a] == 0) {
-                  couple(a, -1, cv, w, true);
-                } else {
-                  Eigen::Vector3i u = v;
-                  u[a] -= 1;
-                  couple(a, of[g.cell(u)], cv, w, false);
-                }
-              }
-            if (B[a] == nc[a] - 1)
+            const int below = B[a] == 0 ? -1 : block - coarse_stride[a];
+            for (const bool high : {false, true}) {
+              if (high && B[a] != nc[a] - 1) break;
+              float plain = 0.0f;  // couplings between the two cells' first parts
+              int v[3];
+              v[a] = high ? g.n[a] - 1 : lo[a];
               for (int p = lo[b1]; p <= hi[b1]; ++p)
                 for (int q = lo[b2]; q <= hi[b2]; ++q) {
-                  Eigen::Vector3i f;
-                  f[a] = g.n[a];
-                  f[b1] = p;
-                  f[b2] = q;
-                  const float w = g.face(a, f);
+                  v[b1] = p;
+                  v[b2] = q;
+                  int f[3] = {v[0], v[1], v[2]};
+                  if (high) f[a] += 1;
+                  const std::int64_t face =
+                      f[0] + std::int64_t(face_x[a]) * (f[1] + std::int64_t(face_y[a]) * f[2]);
+                  const float w =
+                      fine.unit_weights ? float(fine.open[a][face]) : fine.weight[a][face];
                   if (w <= 0.0f) continue;
-                  Eigen::Vector3i v = f;
-                  v[a] -= 1;
-                  const int cv = of[g.cell(v)];
-                  Eigen::Vector3i high = B;
-                  high[a] += 1;
-                  if (cv == block)
-                    coarse_face(a, high) += 0.5f * w;
-                  else
-                    coarse.ground[cv] += 0.5f * w;
+                  const int cell = v[0] + g.n.x() * (v[1] + g.n.y() * v[2]);
+                  const int cv = of[cell];
+                  if (high || below < 0) {  // a domain face
+                    if (cv == block)
+                      plain += w;
+                    else
+                      coarse.ground[cv] += 0.5f * w;
+                  } else {
+                    const int cu = of[cell - cell_stride[a]];
+                    if (cv == block && cu == below)
+                      plain += w;
+                    else
+                      mine.push_back({std::min(cu, cv), std::max(cu, cv), 0.5f * w});
+                  }
                 }
+              if (plain != 0.0f) {
+                Eigen::Vector3i C = B;
+                if (high) C[a] += 1;
+                coarse_face(a, C) += 0.5f * plain;
+              }
+            }
           }
-          // Members: links to parts of lower neighbours, and conductances to p = 0.
+          // Members: links to parts of lower neighbours, and conductances to p = 0 (nothing
+          // to do on a smoke grid without extras: the common fine level).
+          if (!members_matter) continue;
           for (int k = lo.z(); k <= hi.z(); ++k)
             for (int j = lo.y(); j <= hi.y(); ++j)
               for (int i = lo.x(); i <= hi.x(); ++i) {
@@ -458,25 +487,6 @@ void coarsen_level(Level& fine, Level& coarse) {
             standard[standard_count++] = {w.x() / 2 + nc.x() * (w.y() / 2 + nc.y() * (w.z() / 2)),
                                           tensor_weight(S)};
           }
-      // Fast path: every inner face of the stencil open, every corner its block's first part.
-      if (u < g.cells) {
-        bool plain = true;
-        for (int S = 0; S < 8 && plain; ++S) {
-          if ((S & ~far_axes) != 0) continue;
-          const Eigen::Vector3i w = corner_cell(S);
-          const int wc = g.cell(w);
-          if (of[wc] != w.x() / 2 + nc.x() * (w.y() / 2 + nc.y() * (w.z() / 2))) plain = false;
-          const auto [first, last] = g.extras_of(wc);
-          if (first != last) plain = false;
-          for (int a = 0; a < 3 && plain; ++a)
-            if ((far_axes >> a & 1) && !(S >> a & 1)) {
-              Eigen::Vector3i f = w;
-              if (side[a] > 0) f[a] += 1;
-              if (g.face(a, f) <= 0.0f) plain = false;
-            }
-        }
-        if (plain) return;
-      }
       // Unknowns reached from u through open faces and links inside the stencil's cells.
       const auto corner_of_cell = [&](const Eigen::Vector3i& w) {
         int S = 0;
@@ -559,12 +569,38 @@ void coarsen_level(Level& fine, Level& coarse) {
         if (std::abs(delta[t].second) > 1e-9)
           mine.push_back({u, delta[t].first, static_cast<float>(delta[t].second)});
     };
+    // The stencil of a fine cell along an axis is the pair {2D - 1, 2D} that holds it (its
+    // far parent lies on its partner's side), so the eight cells of a "dual" block D share
+    // one stencil. A dual block whose cells are all their coarse cells' first parts, with
+    // no extras and every inner face open, keeps the plain trilinear rows; only the others
+    // (near shells, air, walls inside the domain) compute their own.
+    const Eigen::Vector3i dual = g.n / 2 + Eigen::Vector3i::Ones();
 #pragma omp for collapse(2) schedule(static)
-    for (int k = 0; k < g.n.z(); ++k)
-      for (int j = 0; j < g.n.y(); ++j)
-        for (int i = 0; i < g.n.x(); ++i) {
-          const int u = g.cell({i, j, k});
-          if (of[u] >= 0) row_of(u);
+    for (int DK = 0; DK < dual.z(); ++DK)
+      for (int DJ = 0; DJ < dual.y(); ++DJ)
+        for (int DI = 0; DI < dual.x(); ++DI) {
+          const Eigen::Vector3i D(DI, DJ, DK);
+          const Eigen::Vector3i lo = (2 * D.array() - 1).max(0);
+          const Eigen::Vector3i hi = (2 * D).cwiseMin(g.n - Eigen::Vector3i::Ones());
+          bool plain = true;
+          for (int k = lo.z(); k <= hi.z() && plain; ++k)
+            for (int j = lo.y(); j <= hi.y() && plain; ++j)
+              for (int i = lo.x(); i <= hi.x() && plain; ++i) {
+                const int cell = g.cell({i, j, k});
+                if (of[cell] != i / 2 + nc.x() * (j / 2 + nc.y() * (k / 2))) plain = false;
+                const auto [first, last] = g.extras_of(cell);
+                if (first != last) plain = false;
+                if (i < hi.x() && g.face(0, {i + 1, j, k}) <= 0.0f) plain = false;
+                if (j < hi.y() && g.face(1, {i, j + 1, k}) <= 0.0f) plain = false;
+                if (k < hi.z() && g.face(2, {i, j, k + 1}) <= 0.0f) plain = false;
+              }
+          if (plain) continue;
+          for (int k = lo.z(); k <= hi.z(); ++k)
+            for (int j = lo.y(); j <= hi.y(); ++j)
+              for (int i = lo.x(); i <= hi.x(); ++i) {
+                const int u = g.cell({i, j, k});
+                if (of[u] >= 0) row_of(u);
+              }
         }
 #pragma omp single
     {
@@ -581,12 +617,10 @@ void coarsen_level(Level& fine, Level& coarse) {
   rows_from(
       entries, [](const Entry& e) { return e.fine; }, [](const Entry& e) { return e.coarse; },
       fine.prolongation_correction);
-  // Restriction rows by coarse unknown (the transpose): a counting sort.
-  std::vector<int> count(coarse_unknowns + 1, 0);
-  for (const Entry& e : entries) ++count[e.coarse + 1];
-  for (int c = 0; c < coarse_unknowns; ++c) count[c + 1] += count[c];
-  std::vector<Entry> by_coarse(entries.size());
-  for (const Entry& e : entries) by_coarse[count[e.coarse]++] = e;
+  // Restriction rows by coarse unknown (the transpose).
+  std::vector<Entry> by_coarse = entries;
+  std::stable_sort(by_coarse.begin(), by_coarse.end(),
+                   [](const Entry& p, const Entry& q) { return p.coarse < q.coarse; });
   rows_from(
       by_coarse, [](const Entry& e) { return e.coarse; }, [](const Entry& e) { return e.fine; },
       fine.restriction_correction);

@@ -118,6 +118,12 @@ class MultigridPreconditioner final : public Preconditioner {
 
     mutable std::vector<float> x, b, r;  ///< iterate, right-hand side, residual
 
+    /// Per unknown: the unknown of its part on the next coarser level (-1: inactive).
+    std::vector<int> coarse_part;
+    /// Scratch of the coarsening (part numbers within a cell, per-cell counts and offsets),
+    /// kept so that a compute() per step reuses the memory instead of faulting it in anew.
+    std::vector<int> scratch_part, scratch_extra_start;
+
     int size() const { return cells.prod(); }
     int unknowns() const { return size() + extras; }
     bool has_links() const { return !link_to.empty(); }
