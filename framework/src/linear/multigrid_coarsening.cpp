@@ -92,9 +92,10 @@ struct UnionFind {
 /// Per fine unknown: its part's number within its coarse cell (0: the largest part, which
 /// keeps the cell's slot; -1: inactive). Per coarse cell: its number of parts.
 void label_parts(const LevelGraph& g, const Eigen::Vector3i& nc, std::vector<int>& local,
-                 std::vector<int>& parts) {
+                 std::vector<int>& parts, std::vector<std::uint8_t>& simple_cell) {
   local.resize(g.cells + g.level.extras);  // every entry written below
   parts.resize(nc.prod());
+  simple_cell.resize(nc.prod());
   const bool go = nc.prod() >= kParallelThreshold / 8;
 #pragma omp parallel if (go)
   {
@@ -136,6 +137,7 @@ void label_parts(const LevelGraph& g, const Eigen::Vector3i& nc, std::vector<int
           if (simple) {
             for (const int u : members) local[u] = 0;
             parts[block] = 1;
+            simple_cell[block] = 1;
             continue;
           }
           const int m = static_cast<int>(members.size());
@@ -176,6 +178,7 @@ void label_parts(const LevelGraph& g, const Eigen::Vector3i& nc, std::vector<int
             local[members[q]] = label[root];
           }
           parts[block] = count;
+          simple_cell[block] = 0;
         }
   }
 }
@@ -234,7 +237,9 @@ void coarsen_level(Level& fine, Level& coarse) {
   // Scratch kept in the levels, so that a compute() per step reuses its memory.
   std::vector<int>& local = fine.scratch_part;
   std::vector<int>& parts = coarse.scratch_part;
-  label_parts(g, nc, local, parts);
+  // Simple coarse cells: every fine cell active, its first part, no extras, inner faces open.
+  std::vector<std::uint8_t>& simple = coarse.scratch_simple;
+  label_parts(g, nc, local, parts, simple);
   std::vector<int>& extra_start = coarse.scratch_extra_start;
   extra_start.resize(coarse_cells + 1);
   extra_start[0] = 0;
@@ -332,6 +337,27 @@ void coarsen_level(Level& fine, Level& coarse) {
             // face where that is the domain's. Plain index arithmetic: the hot loop of compute().
             const int b1 = (a + 1) % 3, b2 = (a + 2) % 3;
             const int below = B[a] == 0 ? -1 : block - coarse_stride[a];
+            if (simple[block] != 0 && (below < 0 || simple[below] != 0)) {
+              // Both cells whole (or the domain beyond): the plain face sum of McAdams et al.
+              for (const bool high : {false, true}) {
+                if (high && B[a] != nc[a] - 1) break;
+                int f[3];
+                f[a] = high ? g.n[a] : lo[a];
+                float sum = 0.0f;
+                for (int p = lo[b1]; p <= hi[b1]; ++p)
+                  for (int q = lo[b2]; q <= hi[b2]; ++q) {
+                    f[b1] = p;
+                    f[b2] = q;
+                    const std::int64_t face =
+                        f[0] + std::int64_t(face_x[a]) * (f[1] + std::int64_t(face_y[a]) * f[2]);
+                    sum += fine.unit_weights ? float(fine.open[a][face]) : fine.weight[a][face];
+                  }
+                Eigen::Vector3i C = B;
+                if (high) C[a] += 1;
+                coarse_face(a, C) += 0.5f * sum;
+              }
+              continue;
+            }
             for (const bool high : {false, true}) {
               if (high && B[a] != nc[a] - 1) break;
               float plain = 0.0f;  // couplings between the two cells' first parts

@@ -123,6 +123,7 @@ class MultigridPreconditioner final : public Preconditioner {
     /// Scratch of the coarsening (part numbers within a cell, per-cell counts and offsets),
     /// kept so that a compute() per step reuses the memory instead of faulting it in anew.
     std::vector<int> scratch_part, scratch_extra_start;
+    std::vector<std::uint8_t> scratch_simple;
 
     int size() const { return cells.prod(); }
     int unknowns() const { return size() + extras; }
