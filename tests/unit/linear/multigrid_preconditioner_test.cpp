@@ -196,8 +196,9 @@ std::pair<int, int> iterations_of(const GridLaplacian& a, const std::vector<int>
 // Multigrid's point: the iteration count barely grows with the grid, where MIC(0)'s grows
 // like n^(1/2) (Bridson 2008, §4.3.2). Smoke box (walls, open top) from 16^3 to 64^3 (64x
 // the unknowns): MG-PCG may take at most 1.5x the iterations. So on the shell-cut domain of
-// irregular(), because the transfers skip a coarse parent across a closed face (measured:
-// 9 / 10 / 11; 16 / 23 / 33 when the interpolation crossed shells), where MIC(0)'s triples.
+// irregular(), because coarse cells hold one unknown per part split by closed faces and no
+// correction crosses a shell (measured: 9 / 10 / 11, issue #17 keeps these as bounds;
+// 16 / 23 / 33 when the interpolation crossed shells), where MIC(0)'s triples.
 TEST(MultigridPreconditioner, IterationsRoughlyIndependentOfGridSize) {
   std::vector<std::pair<int, int>> plain, cut;
   for (const int n : {16, 32, 64}) {
@@ -215,6 +216,8 @@ TEST(MultigridPreconditioner, IterationsRoughlyIndependentOfGridSize) {
   }
   EXPECT_LE(plain.back().first, 1.5 * plain.front().first);
   EXPECT_LE(cut.back().first, 1.5 * cut.front().first);
+  const int measured[] = {9, 10, 11};
+  for (int t = 0; t < 3; ++t) EXPECT_LE(cut[t].first, measured[t]) << "size " << t;
   EXPECT_GE(cut.back().second, 2.5 * cut.front().second);
 }
 

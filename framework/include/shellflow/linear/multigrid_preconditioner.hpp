@@ -6,22 +6,30 @@
 //
 //  - Levels: cells halved per axis (ceil(n/2)) while every axis has >= 8 cells, so the
 //    coarsest grid has 4–7 cells on its shortest axis.
-//  - Coarse operators by rediscretisation from the faces: a coarse face's weight is half
-//    the sum of the (up to four) fine face weights it covers. This is the coarse face
-//    mask of McAdams et al. generalised to fractional openness: a face half closed by a
-//    shell couples half as strongly, a Dirichlet (open) domain face stays Dirichlet, and
-//    the factor 1/2 is the Galerkin scale P^T A_h P ≈ 2 A_{2h} of the unit 7-point
+//  - A shell's two sides stay apart on every level: a coarse cell (a 2x2x2 block of the
+//    level below) holds one unknown per connected part of its fine unknowns, parts joined
+//    only by open faces (weight > 0) inside the block — recursively, so a level-2 cell cut
+//    by a folded sheet holds three unknowns. The largest part keeps the cell's structured
+//    slot (index = cell), the others are "extra" unknowns stored after the cells, so where
+//    no shell is near a level is the plain 7-point grid of McAdams et al. (see
+//    multigrid_coarsening.hpp for the construction).
+//  - Coarse operators rediscretised from the faces, per part: the coupling between two
+//    parts of neighbouring coarse cells is half the sum of the fine face weights joining
+//    their members, a part's Dirichlet conductance half the sum of its members'. This is
+//    the coarse face mask of McAdams et al. generalised to fractional openness and to
+//    parts; the factor 1/2 is the Galerkin scale P^T A_h P ≈ 2 A_{2h} of the unit 7-point
 //    Laplacian under trilinear interpolation with restriction P^T.
-//  - Transfers: trilinear prolongation P between cell centres (3/4, 1/4 per axis,
-//    constant extrapolation at the domain boundary) and restriction exactly P^T. Along an
-//    axis where the face between a cell and its far parent's side is closed, the cell
-//    takes its near parent alone: no correction crosses a shell. That keeps the count flat
-//    where shells lie on coarse faces (a shell-cut 64^3 box: 33 -> 11 iterations); a sheet
-//    through coarse cells still mixes its two sides in them (a curtain: -12%).
-//  - Smoother: red–black Gauss–Seidel, `smoothing_sweeps` forward (red, black) before
-//    the coarse correction and as many backward (black, red) after; the coarsest grid
-//    gets `coarsest_sweeps` symmetric sweeps (red, black, red) from zero. Cells whose
-//    faces all have weight 0 (isolated by shells) are left at 0.
+//  - Transfers: trilinear prolongation P between cell centres (3/4, 1/4 per axis, constant
+//    extrapolation at the domain boundary) where every fine unknown reaches its eight
+//    parents through open faces; elsewhere each corner of the interpolation stencil takes
+//    the part(s) of that coarse cell reached from the fine unknown inside the stencil's
+//    2x2x2 fine cells, and a corner reached by no path gives its weight to the reachable
+//    corners nearest to it. No correction crosses a shell. Restriction is exactly P^T.
+//  - Smoother: red–black Gauss–Seidel (a part's colour is its cell's: parts only couple to
+//    parts of face neighbours), `smoothing_sweeps` forward (red, black) before the coarse
+//    correction and as many backward (black, red) after; the coarsest grid gets
+//    `coarsest_sweeps` symmetric sweeps (red, black, red) from zero. Unknowns with a zero
+//    diagonal (cells isolated by shells, air cells) are left at 0.
 // With the post-smoother the adjoint of the pre-smoother, R = P^T and symmetric coarse
 // operators, the V-cycle is a symmetric positive (semi)definite operator, so CG stays
 // valid (tests check <x, M^{-1} y> = <M^{-1} x, y>). It runs in single precision (the
@@ -62,7 +70,24 @@ class MultigridPreconditioner final : public Preconditioner {
   int levels() const { return static_cast<int>(m_levels.size()); }
   const MultigridSettings& settings() const { return m_settings; }
 
-  /// One level of the hierarchy (public for the implementation's helpers).
+  /// Unknowns on level `level` (0: the fine cells; coarser: cells plus extra parts).
+  int unknowns(int level) const { return m_levels[level].unknowns(); }
+
+  /// Sparse rows of a transfer correction: rows `row[t]` with entries
+  /// [start[t], start[t + 1]) of (column, value).
+  struct SparseRows {
+    std::vector<int> row, start{0}, column;
+    std::vector<float> value;
+    void clear() {
+      row.clear();
+      start.assign(1, 0);
+      column.clear();
+      value.clear();
+    }
+  };
+
+  /// One level of the hierarchy (public for the implementation's helpers). Unknowns: one
+  /// per cell (flat GridLaplacian layout), then `extras` more parts of cells cut by shells.
   struct Level {
     Eigen::Vector3i cells = Eigen::Vector3i::Zero();
     std::array<std::vector<float>, 3> weight;  ///< face weights, GridLaplacian layout
@@ -70,13 +95,39 @@ class MultigridPreconditioner final : public Preconditioner {
     /// weights are kept as bytes in `open` instead (less memory traffic per sweep).
     bool unit_weights = false;
     std::array<std::vector<std::uint8_t>, 3> open;
-    std::vector<float> dirichlet;         ///< per-cell Dirichlet conductance (empty: none)
-    std::vector<float> inverse_diagonal;  ///< 1 / A_cc, 0 for an isolated cell
-    /// Per cell, bit d: its face towards its far coarse parent along axis d is closed, so
-    /// the transfers to the next level skip that parent (no correction across a shell).
-    std::vector<std::uint8_t> near_only;
-    std::vector<std::uint8_t> row_near_only;  ///< per row (j, k): any cell with a bit set
-    mutable std::vector<float> x, b, r;   ///< iterate, right-hand side, residual
+    /// Per cell: what its diagonal holds beyond its structured faces — its Dirichlet
+    /// conductance plus its links to extra parts (empty: none anywhere).
+    std::vector<float> dirichlet;
+    /// Per unknown, coarse levels only: the conductance to p = 0 alone (Dirichlet cells and,
+    /// for extras, open domain faces); level 0 reads `dirichlet` instead.
+    std::vector<float> ground;
+    std::vector<float> inverse_diagonal;  ///< per unknown: 1 / A_uu, 0 where A_uu = 0
+
+    int extras = 0;                     ///< parts beyond each cell's first
+    std::vector<int> extra_cell;        ///< per extra: the cell it belongs to
+    std::vector<int> cell_extra_start;  ///< per cell + 1: its extras (empty when extras == 0)
+    /// Couplings that involve an extra part (the 7-point faces hold the others), both
+    /// directions, CSR over all unknowns; row_has_links flags grid rows (j, k) with any.
+    std::vector<int> link_start, link_to;
+    std::vector<float> link_weight;
+    std::vector<std::uint8_t> row_has_links;
+
+    /// Transfer to the next coarser level, P = trilinear on the cells + correction:
+    /// prolongation's correction by fine unknown, restriction's (its transpose) by coarse one.
+    SparseRows prolongation_correction, restriction_correction;
+
+    mutable std::vector<float> x, b, r;  ///< iterate, right-hand side, residual
+
+    /// Per unknown: the unknown of its part on the next coarser level (-1: inactive).
+    std::vector<int> coarse_part;
+    /// Scratch of the coarsening (part numbers within a cell, per-cell counts and offsets),
+    /// kept so that a compute() per step reuses the memory instead of faulting it in anew.
+    std::vector<int> scratch_part, scratch_extra_start;
+    std::vector<std::uint8_t> scratch_simple;
+
+    int size() const { return cells.prod(); }
+    int unknowns() const { return size() + extras; }
+    bool has_links() const { return !link_to.empty(); }
   };
 
  private:
