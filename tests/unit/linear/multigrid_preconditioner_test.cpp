@@ -24,10 +24,6 @@ using testing::Boundary;
 using testing::poisson_7point;
 
 /// Face weight of family `axis` at face (i, j, k) of a GridLaplacian.
-double& weight(GridLaplacian& a, int axis, int i, int j, int k) {
-  const Eigen::Vector3i n = a.face_counts(axis);
-  return a.weights(axis)[i + n.x() * (j + n.y() * k)];
-}
 
 /// Every face open (1), domain faces Dirichlet or walls.
 GridLaplacian uniform(const Eigen::Vector3i& cells, Boundary boundary) {
@@ -39,7 +35,8 @@ GridLaplacian uniform(const Eigen::Vector3i& cells, Boundary boundary) {
         for (int i = 0; i < n.x(); ++i) {
           const int along = Eigen::Vector3i(i, j, k)[axis];
           const bool domain_face = along == 0 || along == cells[axis];
-          weight(a, axis, i, j, k) = domain_face && boundary == Boundary::Neumann ? 0.0 : 1.0;
+          testing::laplacian_face_weight(a, axis, i, j, k) =
+              domain_face && boundary == Boundary::Neumann ? 0.0 : 1.0;
         }
   }
   return a;
@@ -55,17 +52,23 @@ GridLaplacian uniform(const Eigen::Vector3i& cells, Boundary boundary) {
 std::pair<GridLaplacian, std::vector<int>> irregular(int n) {
   GridLaplacian a = uniform({n, n, n}, Boundary::Neumann);
   for (int k = 0; k < n; ++k)
-    for (int i = 0; i < n; ++i) weight(a, 1, i, n, k) = i < n / 4 ? 0.0 : 1.0;  // open top
+    for (int i = 0; i < n; ++i)
+      testing::laplacian_face_weight(a, 1, i, n, k) = i < n / 4 ? 0.0 : 1.0;  // open top
   for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n; ++j) weight(a, 0, n / 4, j, k) = 0.0;  // sealing shell
+    for (int j = 0; j < n; ++j)
+      testing::laplacian_face_weight(a, 0, n / 4, j, k) = 0.0;  // sealing shell
   for (int k = 0; k < n; ++k)
-    for (int j = 0; j < n / 2; ++j) weight(a, 0, n / 2, j, k) = 0.0;  // partial shell
+    for (int j = 0; j < n / 2; ++j)
+      testing::laplacian_face_weight(a, 0, n / 2, j, k) = 0.0;  // partial shell
   const int lo = n / 2, hi = 3 * n / 4;
   for (int u = lo; u < hi; ++u)
     for (int v = lo; v < hi; ++v) {
-      weight(a, 0, lo, u, v) = weight(a, 0, hi, u, v) = 0.0;
-      weight(a, 1, u, lo, v) = weight(a, 1, u, hi, v) = 0.0;
-      weight(a, 2, u, v, lo) = weight(a, 2, u, v, hi) = 0.0;
+      testing::laplacian_face_weight(a, 0, lo, u, v) =
+          testing::laplacian_face_weight(a, 0, hi, u, v) = 0.0;
+      testing::laplacian_face_weight(a, 1, u, lo, v) =
+          testing::laplacian_face_weight(a, 1, u, hi, v) = 0.0;
+      testing::laplacian_face_weight(a, 2, u, v, lo) =
+          testing::laplacian_face_weight(a, 2, u, v, hi) = 0.0;
     }
   std::vector<int> group(n * n * n, -1);
   for (int k = 0; k < n; ++k)
@@ -204,7 +207,8 @@ TEST(MultigridPreconditioner, IterationsRoughlyIndependentOfGridSize) {
   for (const int n : {16, 32, 64}) {
     GridLaplacian box = uniform({n, n, n}, Boundary::Neumann);
     for (int k = 0; k < n; ++k)
-      for (int i = 0; i < n; ++i) weight(box, 1, i, n, k) = 1.0;  // open top
+      for (int i = 0; i < n; ++i)
+        testing::laplacian_face_weight(box, 1, i, n, k) = 1.0;  // open top
     int levels = 0;
     plain.push_back(iterations_of(box, std::vector<int>(n * n * n, -1), 0, &levels));
     auto [a, group] = irregular(n);
@@ -243,10 +247,12 @@ GridLaplacian free_surface(int n, int h) {
   a.dirichlet().assign(a.size(), 0.0);
   for (int k = 0; k < n; ++k)
     for (int i = 0; i < n; ++i) {
-      for (int j = h; j <= n; ++j) weight(a, 1, i, j, k) = 0.0;
+      for (int j = h; j <= n; ++j) testing::laplacian_face_weight(a, 1, i, j, k) = 0.0;
       for (int j = h; j < n; ++j) {
-        weight(a, 0, i, j, k) = weight(a, 0, i + 1, j, k) = 0.0;
-        weight(a, 2, i, j, k) = weight(a, 2, i, j, k + 1) = 0.0;
+        testing::laplacian_face_weight(a, 0, i, j, k) =
+            testing::laplacian_face_weight(a, 0, i + 1, j, k) = 0.0;
+        testing::laplacian_face_weight(a, 2, i, j, k) =
+            testing::laplacian_face_weight(a, 2, i, j, k + 1) = 0.0;
       }
       const double theta = 0.05 + 0.9 * i / (n - 1.0);
       a.dirichlet()[i + n * ((h - 1) + n * k)] = 1.0 / theta;

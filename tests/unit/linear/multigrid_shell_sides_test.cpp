@@ -12,6 +12,7 @@
 #include <random>
 #include <string>
 
+#include "poisson_matrix.hpp"
 #include "shellflow/linear/cholmod_solver.hpp"
 #include "shellflow/linear/grid_laplacian.hpp"
 #include "shellflow/linear/multigrid_preconditioner.hpp"
@@ -37,10 +38,6 @@ std::string name_of(Sheet sheet) {
 }
 
 /// Face weight of family `axis` at face (i, j, k) (the face below cell (i, j, k) along axis).
-double& weight(GridLaplacian& a, int axis, int i, int j, int k) {
-  const Eigen::Vector3i n = a.face_counts(axis);
-  return a.weights(axis)[i + n.x() * (j + n.y() * k)];
-}
 
 /// The smoke box of the projection: walls (weight 0) on every domain face but an open top
 /// (y = n, Dirichlet p = 0), every interior face open (weight 1).
@@ -53,7 +50,8 @@ GridLaplacian smoke_box(int n) {
         for (int i = 0; i < faces.x(); ++i) {
           const int along = Eigen::Vector3i(i, j, k)[axis];
           const bool top = axis == 1 && along == n;
-          weight(a, axis, i, j, k) = (along == 0 || along == n) && !top ? 0.0 : 1.0;
+          testing::laplacian_face_weight(a, axis, i, j, k) =
+              (along == 0 || along == n) && !top ? 0.0 : 1.0;
         }
   }
   return a;
@@ -69,7 +67,7 @@ int odd_near(int n, double t) {
 void add_curtain(GridLaplacian& a, int n) {
   const int x = odd_near(n, 0.5);
   for (int k = n / 8; k < n - n / 8; ++k)
-    for (int j = n / 4; j < n; ++j) weight(a, 0, x, j, k) = 0.0;
+    for (int j = n / 4; j < n; ++j) testing::laplacian_face_weight(a, 0, x, j, k) = 0.0;
 }
 
 /// A plate tilted in x and z over the middle half of the box: a staircase of closed y-faces
@@ -83,13 +81,13 @@ void add_tilted_plate(GridLaplacian& a, int n) {
   for (int k = lo; k < hi; ++k)
     for (int i = lo; i < hi; ++i) {
       const int h = height(i, k);
-      weight(a, 1, i, h, k) = 0.0;
+      testing::laplacian_face_weight(a, 1, i, h, k) = 0.0;
       if (i + 1 < hi)  // riser between columns i and i + 1
         for (int j = std::min(h, height(i + 1, k)); j < std::max(h, height(i + 1, k)); ++j)
-          weight(a, 0, i + 1, j, k) = 0.0;
+          testing::laplacian_face_weight(a, 0, i + 1, j, k) = 0.0;
       if (k + 1 < hi)
         for (int j = std::min(h, height(i, k + 1)); j < std::max(h, height(i, k + 1)); ++j)
-          weight(a, 2, i, j, k + 1) = 0.0;
+          testing::laplacian_face_weight(a, 2, i, j, k + 1) = 0.0;
     }
 }
 
@@ -101,10 +99,14 @@ void add_folded_pocket(GridLaplacian& a, int n) {
   const int x0 = odd_near(n, 0.25), x1 = odd_near(n, 0.7);
   const int z0 = odd_near(n, 0.2), z1 = odd_near(n, 0.75);
   for (int k = z0; k < z1; ++k)
-    for (int i = x0; i < x1; ++i) weight(a, 1, i, y0, k) = weight(a, 1, i, y1, k) = 0.0;
+    for (int i = x0; i < x1; ++i)
+      testing::laplacian_face_weight(a, 1, i, y0, k) =
+          testing::laplacian_face_weight(a, 1, i, y1, k) = 0.0;
   for (int j = y0; j < y1; ++j) {
-    for (int k = z0; k < z1; ++k) weight(a, 0, x1, j, k) = 0.0;
-    for (int i = x0; i < x1; ++i) weight(a, 2, i, j, z0) = weight(a, 2, i, j, z1) = 0.0;
+    for (int k = z0; k < z1; ++k) testing::laplacian_face_weight(a, 0, x1, j, k) = 0.0;
+    for (int i = x0; i < x1; ++i)
+      testing::laplacian_face_weight(a, 2, i, j, z0) =
+          testing::laplacian_face_weight(a, 2, i, j, z1) = 0.0;
   }
 }
 
@@ -171,10 +173,13 @@ TEST(MultigridShellSides, PartSealedInsideACoarseCellKeepsTheCycleSymmetric) {
   const int n = 16;
   GridLaplacian a = smoke_box(n);
   for (int i = 2; i <= 3; ++i) {  // cells (2, 2, 2) and (3, 2, 2): level-1 cell (1, 1, 1)
-    weight(a, 1, i, 2, 2) = weight(a, 1, i, 3, 2) = 0.0;
-    weight(a, 2, i, 2, 2) = weight(a, 2, i, 2, 3) = 0.0;
+    testing::laplacian_face_weight(a, 1, i, 2, 2) = testing::laplacian_face_weight(a, 1, i, 3, 2) =
+        0.0;
+    testing::laplacian_face_weight(a, 2, i, 2, 2) = testing::laplacian_face_weight(a, 2, i, 2, 3) =
+        0.0;
   }
-  weight(a, 0, 2, 2, 2) = weight(a, 0, 4, 2, 2) = 0.0;
+  testing::laplacian_face_weight(a, 0, 2, 2, 2) = testing::laplacian_face_weight(a, 0, 4, 2, 2) =
+      0.0;
   MultigridPreconditioner mg;
   mg.compute(a);
   EXPECT_EQ(mg.unknowns(1), (n / 2) * (n / 2) * (n / 2) + 1);  // the pair: one extra part
