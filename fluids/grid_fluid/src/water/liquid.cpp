@@ -50,7 +50,8 @@ sdk::Schema Liquid::schema() {
                       "step unless particles correct it (§4.4.2). maccormack: traced forward "
                       "and back and corrected by half the round trip's error, clamped to the "
                       "stencil (Selle et al. 2008), at twice the cost; keeps curved water's "
-                      "volume, but a 64-cell dam break with it blew up (README, Known limits)"))
+                      "volume (with constant extrapolation a 64-cell dam break blew up: README, "
+                      "Known limits)"))
       .field("particles", ParticleLevelSet::schema())
       .field("surface_pressure",
              Schema::string("ghost_fluid")
