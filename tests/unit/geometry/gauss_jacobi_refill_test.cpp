@@ -14,7 +14,8 @@ namespace {
 
 using grid::Location;
 
-/// Wedge thickness: 1e-3 dx, the 2011 PhysBAM default (scene-parameters.md).
+/// Wedge thickness: 1e-3 dx, the 2011 PhysBAM default (collision_thickness in
+/// PhysBAM_Geometry/Grids_Uniform_Collisions/GRID_BASED_COLLISION_GEOMETRY_UNIFORM.cpp).
 constexpr double kDx = 1.0 / 16.0;
 constexpr double kEpsilon = 1e-3 * kDx;
 
