@@ -12,6 +12,7 @@
 #include "grid_fluid_test_support.hpp"
 #include "shellflow/grid_fluid/water/fast_marching.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
+#include "shellflow/grid_fluid/water/velocity_extrapolation.hpp"
 
 namespace shellflow::grid_fluid {
 namespace {
@@ -139,6 +140,41 @@ TEST(Water, ACylinderOfWaterHoldsItsVolume) {
     ADD_FAILURE() << "a cylinder without an axis was accepted";
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.json_path(), "/water/initial/0/to");
+  }
+}
+
+TEST(VelocityExtrapolation, LinearProfileContinuesALinearFieldAcrossAFlatSurface) {
+  // A flat surface at y = h = 4.3Δx over 8^3 cells, u_y = 1 + 2y on the y-faces below it
+  // (the known, liquid faces). The linear profile continues the field exactly (round-off)
+  // on the faces within a cell above the surface, and holds that value beyond; the
+  // constant profile (§4.4's ∇φ·∇u = 0) copies the last liquid face everywhere above.
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 0.125, Eigen::Vector3i(8, 8, 8));
+  const double dx = grid.dx(), h = 4.3 * dx;
+  LevelSet level_set(grid, 6.0 * dx);
+  for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
+    level_set.phi()[i] = grid.position(Location::Node, i).y() - h;
+  const auto field = [](double y) { return 1.0 + 2.0 * y; };
+  for (const bool linear : {true, false}) {
+    MacGrid mac(grid);
+    std::array<std::vector<std::uint8_t>, 3> known;
+    for (int a = 0; a < 3; ++a) known[a].assign(grid.size(face_location(a)), a == 1 ? 0 : 1);
+    auto& v = mac.face_velocity(1);
+    for (std::int64_t f = 0; f < grid.size(Location::FaceY); ++f) {
+      const double y = grid.position(Location::FaceY, f).y();
+      if (y < h) {
+        v[f] = field(y);
+        known[1][f] = 1;
+      }
+    }
+    VelocityExtrapolation(grid, linear)
+        .extrapolate(mac, known, level_set, 5.0 * dx, ShellGeometry(), nullptr);
+    const double last = field(4.0 * dx);  // the highest liquid face
+    for (std::int64_t f = 0; f < grid.size(Location::FaceY); ++f) {
+      const double y = grid.position(Location::FaceY, f).y();
+      if (y < h || y - h > 5.0 * dx) continue;
+      const double expected = !linear ? last : y - h < dx ? field(y) : field(5.0 * dx);
+      EXPECT_NEAR(v[f], expected, 1e-12) << (linear ? "linear" : "constant") << " at y = " << y;
+    }
   }
 }
 

@@ -119,6 +119,8 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
           // velocity, an error k s Δx of a wave's speed. Beyond the first cell, constant.
           const double slope = slope_weighted / weights;
           m_slope[f] = slope;
+          // Σw ≈ Δx Σ|n_a| >= Δx for a distance; below Δx/2 φ is too flat about the face
+          // for d Δx²/Σw to mean a distance along the normal.
           if (weights >= 0.5 * dx) u[f] += slope * dx2 / weights;
         }
       } else if (terms > 0) {
