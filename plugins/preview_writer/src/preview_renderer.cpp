@@ -66,7 +66,10 @@ RgbImage PreviewRenderer::render(const sdk::FrameView& frame) const {
     fields = frame.fluid->fields();
     try {
       if (auto density = find_field(fields, m_settings.density_field)) smoke.emplace(*density);
-      if (auto phi = find_field(fields, m_settings.water_field)) water.emplace(*phi);
+      if (auto phi = find_field(fields, m_settings.water_field)) {
+        water.emplace(*phi);
+        if (!shells.empty()) water->see_shells(shells, frame.shells);
+      }
     } catch (const std::invalid_argument& e) {
       throw Error(std::string("preview_writer: ") + e.what());
     }
@@ -98,7 +101,12 @@ RgbImage PreviewRenderer::render(const sdk::FrameView& frame) const {
         }
       }
       if (water) {
-        const WaterHit hit = water->first_hit(ray.origin, ray.direction, smoke_end, water_step);
+        // Water is looked for up to the shell less the simulation's wedge half-width
+        // (1e-3 dx, GRID_BASED_COLLISION_GEOMETRY_UNIFORM): from a point on the shell
+        // itself, which side's nodes it sees is round-off.
+        const double water_end =
+            std::isfinite(smoke_end) ? smoke_end - 1e-3 * water->dx() : smoke_end;
+        const WaterHit hit = water->first_hit(ray.origin, ray.direction, water_end, water_step);
         if (hit.hit()) {
           behind = water_shade(s, hit.normal, ray.direction);  // in front of any shell
           smoke_end = hit.distance;

@@ -25,28 +25,74 @@ bool TrilinearField::contains(const Eigen::Vector3d& x) const {
   return (x.array() >= m_lower.array()).all() && (x.array() <= m_upper.array()).all();
 }
 
-double TrilinearField::value(const Eigen::Vector3d& x) const {
-  int base[3];
-  double w[3];
+TrilinearField::Stencil TrilinearField::stencil(const Eigen::Vector3d& x) const {
+  Stencil st;
   for (int a = 0; a < 3; ++a) {
     // Grid coordinate, clamped to the outer samples (constant beyond them).
     const double g =
         std::clamp((x[a] - m_origin[a]) / m_dx, 0.0, static_cast<double>(m_dims[a] - 1));
-    base[a] = std::min(static_cast<int>(g), std::max(m_dims[a] - 2, 0));
-    w[a] = m_dims[a] > 1 ? g - base[a] : 0.0;
+    st.base[a] = std::min(static_cast<int>(g), std::max(m_dims[a] - 2, 0));
+    st.w[a] = m_dims[a] > 1 ? g - st.base[a] : 0.0;
   }
+  return st;
+}
+
+double TrilinearField::value(const Eigen::Vector3d& x) const {
+  const Stencil st = stencil(x);
   // Sample (i,j,k) at i + nx (j + ny k) (sdk::FieldView).
   const size_t sx = 1;
   const size_t sy = static_cast<size_t>(m_dims[0]);
   const size_t sz = sy * static_cast<size_t>(m_dims[1]);
   const size_t step[3] = {m_dims[0] > 1 ? sx : 0, m_dims[1] > 1 ? sy : 0, m_dims[2] > 1 ? sz : 0};
-  const double* p = m_data + base[0] * sx + base[1] * sy + base[2] * sz;
+  const double* p = m_data + st.base[0] * sx + st.base[1] * sy + st.base[2] * sz;
   auto lerp = [](double a, double b, double t) { return a + t * (b - a); };
-  const double c00 = lerp(p[0], p[step[0]], w[0]);
-  const double c10 = lerp(p[step[1]], p[step[1] + step[0]], w[0]);
-  const double c01 = lerp(p[step[2]], p[step[2] + step[0]], w[0]);
-  const double c11 = lerp(p[step[2] + step[1]], p[step[2] + step[1] + step[0]], w[0]);
-  return lerp(lerp(c00, c10, w[1]), lerp(c01, c11, w[1]), w[2]);
+  const double c00 = lerp(p[0], p[step[0]], st.w[0]);
+  const double c10 = lerp(p[step[1]], p[step[1] + step[0]], st.w[0]);
+  const double c01 = lerp(p[step[2]], p[step[2] + step[0]], st.w[0]);
+  const double c11 = lerp(p[step[2] + step[1]], p[step[2] + step[1] + step[0]], st.w[0]);
+  return lerp(lerp(c00, c10, st.w[1]), lerp(c01, c11, st.w[1]), st.w[2]);
+}
+
+std::array<int, 3> TrilinearField::cells() const {
+  return {std::max(m_dims[0] - 1, 1), std::max(m_dims[1] - 1, 1), std::max(m_dims[2] - 1, 1)};
+}
+
+std::int64_t TrilinearField::cell_of(const Eigen::Vector3d& x) const {
+  const Stencil st = stencil(x);
+  const std::array<int, 3> n = cells();
+  return st.base[0] + std::int64_t(n[0]) * (st.base[1] + std::int64_t(n[1]) * st.base[2]);
+}
+
+double TrilinearField::value_seen(
+    const Eigen::Vector3d& x,
+    const std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)>& seen,
+    double fallback) const {
+  const Stencil st = stencil(x);
+  double value[8], weight[8];
+  bool kept[8];
+  double sum = 0.0;
+  int count = 0;
+  for (int c = 0; c < 8; ++c) {
+    int ijk[3];
+    weight[c] = 1.0;
+    for (int a = 0; a < 3; ++a) {
+      const int bit = (c >> a) & 1;
+      ijk[a] = std::min(st.base[a] + bit, m_dims[a] - 1);
+      weight[c] *= bit ? st.w[a] : 1.0 - st.w[a];
+    }
+    value[c] = m_data[ijk[0] + static_cast<size_t>(m_dims[0]) *
+                                   (ijk[1] + static_cast<size_t>(m_dims[1]) * ijk[2])];
+    const Eigen::Vector3d sample = m_origin + m_dx * Eigen::Vector3d(ijk[0], ijk[1], ijk[2]);
+    kept[c] = seen(x, sample);
+    if (kept[c]) {
+      sum += value[c];
+      ++count;
+    }
+  }
+  if (count == 0) return fallback;
+  double result = 0.0;
+  for (int c = 0; c < 8; ++c) result += weight[c] * (kept[c] ? value[c] : sum / count);
+  return result;
 }
 
 bool TrilinearField::clip(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,

@@ -1,6 +1,7 @@
 #include "shellflow/preview_writer/water_surface.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace shellflow::preview_writer {
@@ -30,6 +31,46 @@ Eigen::Vector3d WaterSurface::gradient(const Eigen::Vector3d& x) const {
   return g;
 }
 
+void WaterSurface::see_shells(const ShellScene& scene, sdk::ShellSet shells) {
+  m_scene = &scene;
+  const std::array<int, 3> n = m_field.cells();
+  m_near_shell.assign(static_cast<size_t>(n[0]) * n[1] * n[2], 0);
+  const double dx = m_field.dx();
+  const Eigen::Vector3d origin = m_field.origin();
+  for (const sdk::ShellSurface& shell : shells) {
+    if (!shell.triangles) continue;
+    const sdk::Triangles& triangles = *shell.triangles;
+    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+      Eigen::Vector3d lo = shell.positions.row(triangles(t, 0)).transpose(), hi = lo;
+      for (int v = 1; v < 3; ++v) {
+        const Eigen::Vector3d p = shell.positions.row(triangles(t, v)).transpose();
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+      int first[3], last[3];
+      bool outside = false;
+      for (int a = 0; a < 3; ++a) {
+        first[a] = std::max(static_cast<int>(std::floor((lo[a] - origin[a]) / dx)), 0);
+        last[a] = std::min(static_cast<int>(std::floor((hi[a] - origin[a]) / dx)), n[a] - 1);
+        outside = outside || first[a] > last[a];
+      }
+      if (outside) continue;
+      for (int k = first[2]; k <= last[2]; ++k)
+        for (int j = first[1]; j <= last[1]; ++j)
+          for (int i = first[0]; i <= last[0]; ++i)
+            m_near_shell[i + static_cast<size_t>(n[0]) * (j + static_cast<size_t>(n[1]) * k)] = 1;
+    }
+  }
+}
+
+double WaterSurface::phi_seen(const Eigen::Vector3d& x) const {
+  if (m_scene == nullptr || m_near_shell[m_field.cell_of(x)] == 0) return m_field.value(x);
+  const auto seen = [&](const Eigen::Vector3d& from, const Eigen::Vector3d& node) {
+    return !m_scene->first_hit(from, node - from, 1.0).hit();
+  };
+  return m_field.value_seen(x, seen, m_field.dx());
+}
+
 WaterHit WaterSurface::first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
                                  double max_distance, double h) const {
   double s_in = 0.0, s_out = 0.0;
@@ -38,7 +79,7 @@ WaterHit WaterSurface::first_hit(const Eigen::Vector3d& origin, const Eigen::Vec
   const double begin = std::max(0.0, s_in);
   const double end = std::min(max_distance, s_out);
   if (!(begin <= end)) return {};
-  auto phi_at = [&](double s) { return m_field.value(origin + s * direction); };
+  auto phi_at = [&](double s) { return phi_seen(origin + s * direction); };
 
   WaterHit hit;
   double a = begin;

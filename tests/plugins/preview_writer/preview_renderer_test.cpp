@@ -269,3 +269,31 @@ TEST(PreviewRenderer, EmptyFrameIsBackground) {
 
 }  // namespace
 }  // namespace shellflow::preview_writer
+
+namespace shellflow::preview_writer {
+namespace {
+
+using namespace testing;
+using writer_testing::SyntheticFluid;
+
+TEST(PreviewRenderer, WaterTouchingAShellFromBehindDoesNotShowThroughIt) {
+  // Water below a plate at z = 0.5, between node planes z = 0.48 (φ = −0.04: water) and
+  // 0.52 (φ = +0.01: air on the camera's side). Plain trilinear φ puts the surface at
+  // z = 0.512, in front of the plate; seen as the simulation sees it (§4.4.1: a point
+  // above the plate uses only the nodes above it) the plate hides the water.
+  SyntheticFluid fluid;
+  auto& phi = fluid.add("phi", sdk::FieldView::Location::Node, Eigen::Vector3d::Constant(-0.8),
+                        kWaterDx, {kWaterNodes, kWaterNodes, kWaterNodes}, 1);
+  phi.fill(0, [](const Eigen::Vector3d& x) { return x.z() < 0.5 ? x.z() - 0.52 : x.z() - 0.51; });
+  const PreviewSettings s = water_settings();
+  const PreviewRenderer renderer(s);
+  // Not vacuous: without the plate the trilinear surface shows (water-blue).
+  const Eigen::Vector3i bare = renderer.render({0, 0.0, {}, &fluid}).at(kCentreX, kCentreY);
+  EXPECT_GT(bare[2], bare[0] + 60);
+  const std::vector<sdk::ShellSurface> shells{square_shell(0.5, 0.3)};
+  const RgbImage image = renderer.render({0, 0.0, shells, &fluid});
+  expect_pixel(image, kCentreX, kCentreY, s.shell_color, kQuantisation);  // lambert 1
+}
+
+}  // namespace
+}  // namespace shellflow::preview_writer

@@ -17,8 +17,11 @@
 // across cells (the trilinear φ's own gradient jumps at cell faces and shades facets).
 
 #include <Eigen/Core>
+#include <cstdint>
 #include <limits>
+#include <vector>
 
+#include "shellflow/preview_writer/shell_scene.hpp"
 #include "shellflow/preview_writer/trilinear_field.hpp"
 #include "shellflow/sdk/fluid_solver.hpp"
 
@@ -48,8 +51,20 @@ class WaterSurface {
 
   double dx() const { return m_field.dx(); }
 
+  /// From now on, in the cells a triangle of `shells` may cut, φ is interpolated as the
+  /// simulation does (§4.4.1): the nodes a shell hides from the point are replaced by the
+  /// mean of those it sees (air, +dx, when it sees none). Plain trilinear φ carried water
+  /// touching a wall up to half a cell past it, where it showed through the wall.
+  /// `scene` (the same shells) must outlive the surface.
+  void see_shells(const ShellScene& scene, sdk::ShellSet shells);
+
  private:
+  /// φ at x: trilinear, or as see_shells() says in the cells next to a shell.
+  double phi_seen(const Eigen::Vector3d& x) const;
+
   TrilinearField m_field;
+  const ShellScene* m_scene = nullptr;
+  std::vector<std::uint8_t> m_near_shell;  ///< per cell of m_field: a triangle's box meets it
 };
 
 }  // namespace shellflow::preview_writer
