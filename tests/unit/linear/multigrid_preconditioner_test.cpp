@@ -23,8 +23,6 @@ namespace {
 using testing::Boundary;
 using testing::poisson_7point;
 
-/// Face weight of family `axis` at face (i, j, k) of a GridLaplacian.
-
 /// Every face open (1), domain faces Dirichlet or walls.
 GridLaplacian uniform(const Eigen::Vector3i& cells, Boundary boundary) {
   GridLaplacian a(cells);

@@ -37,8 +37,6 @@ std::string name_of(Sheet sheet) {
   return "?";
 }
 
-/// Face weight of family `axis` at face (i, j, k) (the face below cell (i, j, k) along axis).
-
 /// The smoke box of the projection: walls (weight 0) on every domain face but an open top
 /// (y = n, Dirichlet p = 0), every interior face open (weight 1).
 GridLaplacian smoke_box(int n) {
