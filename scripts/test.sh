@@ -4,7 +4,9 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 source "$ROOT/scripts/setup.sh"
 cd "$BUILD_DIR"
-# ctest runs tests side by side on few cores: OpenMP threads that spin at barriers would
-# steal each other's cores (a 2-core machine ran the coupling tests 8x slower).
+# ctest runs tests side by side on few cores, each with as many OpenMP threads as cores:
+# threads that yield at once suit that best. (Without this the test binaries take the
+# bounded spin of framework/include/shellflow/runtime/openmp_wait_policy.hpp, not libgomp's
+# default spin, which ran the coupling tests 8x slower on a 2-core machine.)
 export OMP_WAIT_POLICY="${OMP_WAIT_POLICY:-PASSIVE}"
 ctest --output-on-failure -j "$JOBS" --timeout 600 "$@"

@@ -15,6 +15,7 @@
 #include "new_solid.hpp"
 #include "preview_movie.hpp"
 #include "python_script.hpp"
+#include "shellflow/runtime/openmp_wait_policy.hpp"
 #include "shellflow/runtime/plugin_docs.hpp"
 #include "shellflow/runtime/plugin_registry.hpp"
 #include "shellflow/runtime/progress.hpp"
@@ -96,6 +97,8 @@ int plot_command(const std::string& run_dir, const std::vector<std::string>& col
 int run_command(const std::string& scene_file, std::optional<int> frames,
                 std::optional<std::string> out, bool overwrite, int checkpoint_every, bool resume) {
   const auto scene = rt::load_scene(scene_file);
+  spdlog::info("OpenMP wait policy: {}",
+               rt::describe_openmp_wait_policy(rt::process_environment()));
   rt::RunOptions options;
   options.frames = frames;
   if (out) options.out = *out;
@@ -182,6 +185,8 @@ int new_solid_command(const std::string& name, const std::string& dir_arg) {
 int main(int argc, char** argv) {
   spdlog::set_default_logger(spdlog::stderr_color_mt("shellflow"));
   spdlog::set_pattern("%^[%l]%$ %v");
+  // Before any OpenMP region: a bounded spin unless the user chose a wait policy.
+  rt::execute_again_with_bounded_spin(argv);
 
   CLI::App app{
       "shellflow: smoke and water two-way coupled to thin shells (Guendelman et al. 2005)"};

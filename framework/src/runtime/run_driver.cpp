@@ -11,6 +11,7 @@
 #include "shellflow/coupling/coupling_loop.hpp"
 #include "shellflow/runtime/checkpoint.hpp"
 #include "shellflow/runtime/metrics_csv.hpp"
+#include "shellflow/runtime/openmp_wait_policy.hpp"
 #include "shellflow/runtime/output_folder.hpp"
 #include "shellflow/runtime/plugin_instance.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
@@ -130,6 +131,9 @@ Json run_plan(const Scene& scene, sdk::ShellSet shells, const sdk::FluidSolver* 
                       : "not needed without both halves");
   add("writers", !scene.outputs.empty(),
       std::to_string(scene.outputs.size()) + " entries in \"outputs\"");
+  const auto environment = process_environment();
+  add("openmp_bounded_spin", bounded_spin_in_effect(environment),
+      describe_openmp_wait_policy(environment));
   if (fluid_solver != nullptr)
     for (const auto& e : fluid_solver->plan()) add(e.module.c_str(), e.enabled, e.why);
   return plan;
