@@ -68,7 +68,7 @@ RgbImage PreviewRenderer::render(const sdk::FrameView& frame) const {
       if (auto density = find_field(fields, m_settings.density_field)) smoke.emplace(*density);
       if (auto phi = find_field(fields, m_settings.water_field)) {
         water.emplace(*phi);
-        if (!shells.empty()) water->see_shells(shells, frame.shells);
+        if (!shells.empty()) water->see_shells(shells);
       }
     } catch (const std::invalid_argument& e) {
       throw Error(std::string("preview_writer: ") + e.what());

@@ -38,6 +38,14 @@ ShellScene::ShellScene(sdk::ShellSet shells) {
   }
 }
 
+void ShellScene::triangle_boxes(std::vector<geometry::Aabb>& out) const {
+  std::vector<geometry::Aabb> boxes;
+  for (const auto& hierarchy : m_hierarchies) {
+    hierarchy.mesh().boxes(boxes);
+    out.insert(out.end(), boxes.begin(), boxes.end());
+  }
+}
+
 ShellHit ShellScene::first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
                                double max_distance) const {
   ShellHit best;

@@ -38,7 +38,10 @@ TrilinearField::Stencil TrilinearField::stencil(const Eigen::Vector3d& x) const 
 }
 
 double TrilinearField::value(const Eigen::Vector3d& x) const {
-  const Stencil st = stencil(x);
+  return value(stencil(x));
+}
+
+double TrilinearField::value(const Stencil& st) const {
   // Sample (i,j,k) at i + nx (j + ny k) (sdk::FieldView).
   const size_t sx = 1;
   const size_t sy = static_cast<size_t>(m_dims[0]);
@@ -57,17 +60,15 @@ std::array<int, 3> TrilinearField::cells() const {
   return {std::max(m_dims[0] - 1, 1), std::max(m_dims[1] - 1, 1), std::max(m_dims[2] - 1, 1)};
 }
 
-std::int64_t TrilinearField::cell_of(const Eigen::Vector3d& x) const {
-  const Stencil st = stencil(x);
+std::int64_t TrilinearField::cell_index(const Stencil& st) const {
   const std::array<int, 3> n = cells();
   return st.base[0] + std::int64_t(n[0]) * (st.base[1] + std::int64_t(n[1]) * st.base[2]);
 }
 
 double TrilinearField::value_seen(
-    const Eigen::Vector3d& x,
+    const Stencil& st, const Eigen::Vector3d& x,
     const std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)>& seen,
     double fallback) const {
-  const Stencil st = stencil(x);
   double value[8], weight[8];
   bool kept[8];
   double sum = 0.0;

@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 
+#include "shellflow/grid/uniform_grid.hpp"
+
 namespace shellflow::preview_writer {
 
 namespace {
@@ -31,44 +33,32 @@ Eigen::Vector3d WaterSurface::gradient(const Eigen::Vector3d& x) const {
   return g;
 }
 
-void WaterSurface::see_shells(const ShellScene& scene, sdk::ShellSet shells) {
+void WaterSurface::see_shells(const ShellScene& scene) {
   m_scene = &scene;
   const std::array<int, 3> n = m_field.cells();
-  m_near_shell.assign(static_cast<size_t>(n[0]) * n[1] * n[2], 0);
-  const double dx = m_field.dx();
-  const Eigen::Vector3d origin = m_field.origin();
-  for (const sdk::ShellSurface& shell : shells) {
-    if (!shell.triangles) continue;
-    const sdk::Triangles& triangles = *shell.triangles;
-    for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
-      Eigen::Vector3d lo = shell.positions.row(triangles(t, 0)).transpose(), hi = lo;
-      for (int v = 1; v < 3; ++v) {
-        const Eigen::Vector3d p = shell.positions.row(triangles(t, v)).transpose();
-        lo = lo.cwiseMin(p);
-        hi = hi.cwiseMax(p);
-      }
-      int first[3], last[3];
-      bool outside = false;
-      for (int a = 0; a < 3; ++a) {
-        first[a] = std::max(static_cast<int>(std::floor((lo[a] - origin[a]) / dx)), 0);
-        last[a] = std::min(static_cast<int>(std::floor((hi[a] - origin[a]) / dx)), n[a] - 1);
-        outside = outside || first[a] > last[a];
-      }
-      if (outside) continue;
-      for (int k = first[2]; k <= last[2]; ++k)
-        for (int j = first[1]; j <= last[1]; ++j)
-          for (int i = first[0]; i <= last[0]; ++i)
-            m_near_shell[i + static_cast<size_t>(n[0]) * (j + static_cast<size_t>(n[1]) * k)] = 1;
-    }
+  const grid::UniformGrid cells(m_field.origin(), m_field.dx(), {n[0], n[1], n[2]});
+  m_near_shell.assign(static_cast<size_t>(cells.size(grid::Location::Cell)), 0);
+  // A cell a triangle may cut: its centre within half a cell of the triangle's box.
+  std::vector<geometry::Aabb> boxes;
+  scene.triangle_boxes(boxes);
+  for (const geometry::Aabb& box : boxes) {
+    const geometry::Aabb grown = box.inflated(0.5 * m_field.dx());
+    const grid::IndexBox range =
+        cells.samples_in_box(grid::Location::Cell, grown.lower, grown.upper);
+    for (int k = range.lo.z(); k <= range.hi.z(); ++k)
+      for (int j = range.lo.y(); j <= range.hi.y(); ++j)
+        for (int i = range.lo.x(); i <= range.hi.x(); ++i)
+          m_near_shell[cells.index(grid::Location::Cell, i, j, k)] = 1;
   }
 }
 
 double WaterSurface::phi_seen(const Eigen::Vector3d& x) const {
-  if (m_scene == nullptr || m_near_shell[m_field.cell_of(x)] == 0) return m_field.value(x);
+  const TrilinearField::Stencil st = m_field.stencil(x);
+  if (m_scene == nullptr || m_near_shell[m_field.cell_index(st)] == 0) return m_field.value(st);
   const auto seen = [&](const Eigen::Vector3d& from, const Eigen::Vector3d& node) {
     return !m_scene->first_hit(from, node - from, 1.0).hit();
   };
-  return m_field.value_seen(x, seen, m_field.dx());
+  return m_field.value_seen(st, x, seen, m_field.dx());
 }
 
 WaterHit WaterSurface::first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,

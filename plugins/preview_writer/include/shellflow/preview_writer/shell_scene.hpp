@@ -28,6 +28,8 @@ class ShellScene {
                      double max_distance) const;
 
   bool empty() const { return m_hierarchies.empty(); }
+  /// Appends the box of every triangle of every shell to `out`.
+  void triangle_boxes(std::vector<geometry::Aabb>& out) const;
   /// Box of all shells (empty box when none).
   const geometry::Aabb& bounds() const { return m_bounds; }
 

@@ -27,14 +27,22 @@ class TrilinearField {
   /// Trilinear value at world point x, the coordinates clamped to the outer samples
   /// (constant beyond them, also outside the box).
   double value(const Eigen::Vector3d& x) const;
-  /// value(x) with the samples of x's cell that `seen(x, sample position)` rules out
-  /// replaced by the mean of those it keeps (the simulation's stencil rule next to a shell,
-  /// §4.4.1); `fallback` when it keeps none.
-  double value_seen(const Eigen::Vector3d& x,
+  /// x's cell (its lowest sample, clamped to the outer samples) and x's offsets in it.
+  struct Stencil {
+    int base[3];
+    double w[3];
+  };
+  Stencil stencil(const Eigen::Vector3d& x) const;
+  /// The trilinear value of a stencil (value(x) = value(stencil(x))).
+  double value(const Stencil& st) const;
+  /// The stencil's trilinear value with the samples that `seen(x, sample position)` rules
+  /// out replaced by the mean of those it keeps (the simulation's stencil rule next to a
+  /// shell, §4.4.1); `fallback` when it keeps none.
+  double value_seen(const Stencil& st, const Eigen::Vector3d& x,
                     const std::function<bool(const Eigen::Vector3d&, const Eigen::Vector3d&)>& seen,
                     double fallback) const;
-  /// The index of x's cell among the (dims − 1)³ cells between samples (x clamped in).
-  std::int64_t cell_of(const Eigen::Vector3d& x) const;
+  /// The flat index of a stencil's cell among cells() (i + n0 (j + n1 k)).
+  std::int64_t cell_index(const Stencil& st) const;
   /// Cells between samples along each axis (at least 1).
   std::array<int, 3> cells() const;
   /// Whether x lies in the box (faces included).
@@ -53,13 +61,6 @@ class TrilinearField {
   const Eigen::Vector3d& upper() const { return m_upper; }
 
  private:
-  /// x's cell (its lowest sample, clamped) and x's offsets in it, each in [0, 1].
-  struct Stencil {
-    int base[3];
-    double w[3];
-  };
-  Stencil stencil(const Eigen::Vector3d& x) const;
-
   const double* m_data = nullptr;
   std::array<int, 3> m_dims{0, 0, 0};
   Eigen::Vector3d m_origin = Eigen::Vector3d::Zero();

@@ -55,8 +55,8 @@ class WaterSurface {
   /// simulation does (§4.4.1): the nodes a shell hides from the point are replaced by the
   /// mean of those it sees (air, +dx, when it sees none). Plain trilinear φ carried water
   /// touching a wall up to half a cell past it, where it showed through the wall.
-  /// `scene` (the same shells) must outlive the surface.
-  void see_shells(const ShellScene& scene, sdk::ShellSet shells);
+  /// `scene` must outlive the surface.
+  void see_shells(const ShellScene& scene);
 
  private:
   /// φ at x: trilinear, or as see_shells() says in the cells next to a shell.
