@@ -58,6 +58,17 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
     // the shell's or wall's velocity, no slope), with the marching's own upwind stencil:
     // Σ_a (φ_f − φ_a)(u_f − u_a)/Δx² over its lower liquid neighbours, one per axis.
     const double dx = m_grid.dx(), dx2 = dx * dx;
+    // Calls visit(g) for f's neighbours along axis ax in the grid that pass `take` (checked
+    // first: it is cheap) and that f sees (a ray cast next to a shell).
+    const auto for_each_seen_neighbour = [&](std::int64_t f, const Eigen::Vector3i& ijk, int ax,
+                                             auto&& take, auto&& visit) {
+      for (int side = 0; side < 2; ++side) {
+        const int cc = ijk[ax] + (side == 0 ? -1 : 1);
+        if (cc < 0 || cc >= n[ax]) continue;
+        const std::int64_t g = f + (side == 0 ? -stride[ax] : stride[ax]);
+        if (take(g) && visible(f, g)) visit(g);
+      }
+    };
     const auto normal_slope = [&](std::int64_t g) {
       if (known[a][g] != 1) return 0.0;
       const Eigen::Vector3i gijk = m_grid.coordinates(loc, g);
@@ -65,14 +76,13 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
       for (int ax = 0; ax < 3; ++ax) {
         std::int64_t best = -1;
         double best_phi = m_face_phi[g];
-        for (int side = 0; side < 2; ++side) {
-          const int cc = gijk[ax] + (side == 0 ? -1 : 1);
-          if (cc < 0 || cc >= n[ax]) continue;
-          const std::int64_t h = g + (side == 0 ? -stride[ax] : stride[ax]);
-          if (known[a][h] != 1 || m_face_phi[h] >= best_phi || !visible(g, h)) continue;
+        const auto liquid_below = [&](std::int64_t h) {
+          return known[a][h] == 1 && m_face_phi[h] < best_phi;
+        };
+        for_each_seen_neighbour(g, gijk, ax, liquid_below, [&](std::int64_t h) {
           best_phi = m_face_phi[h];
           best = h;
-        }
+        });
         if (best >= 0) slope += (m_face_phi[g] - best_phi) * (u[g] - u[best]) / dx2;
       }
       return slope;
@@ -88,18 +98,15 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
       for (int ax = 0; ax < 3; ++ax) {
         std::int64_t best = -1;
         double best_phi = phi_f;
-        for (int side = 0; side < 2; ++side) {
-          const int cc = ijk[ax] + (side == 0 ? -1 : 1);
-          if (cc < 0 || cc >= n[ax]) continue;
-          const std::int64_t g = f + (side == 0 ? -stride[ax] : stride[ax]);
-          if (m_valid[g] == 0 || !visible(f, g)) continue;
+        const auto valid = [&](std::int64_t g) { return m_valid[g] != 0; };
+        for_each_seen_neighbour(f, ijk, ax, valid, [&](std::int64_t g) {
           plain += u[g];
           ++terms;
           if (m_face_phi[g] < best_phi) {
             best_phi = m_face_phi[g];
             best = g;
           }
-        }
+        });
         if (best >= 0) {
           weighted += (phi_f - best_phi) * u[best];
           weights += phi_f - best_phi;
