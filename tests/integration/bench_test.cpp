@@ -65,6 +65,13 @@ class Bench : public testing::ScratchFolder {
       "solids": [{"plugin": "template_solid", "name": "plate", "nodes": 3,
                   "transform": {"translate": [0, 2, 0]}}]})");
   }
+  /// A four-frame scene of the nan_solid test double (its faults set by the sweep).
+  void write_nan_solid_scene(const std::string& file) {
+    write(file, std::string(R"({"time": {"fps": 24, "frames": 4},
+    "plugin_path": [")") +
+                    SHELLFLOW_TEST_BAD_PLUGIN_DIR + R"(/run_doubles"],
+    "solids": [{"plugin": "nan_solid", "name": "tri"}]})");
+  }
   ShellResult bench(const std::string& args) {
     return run_shell("cd '" + m_dir.string() + "' && OMP_NUM_THREADS=1 " + SHELLFLOW_CLI +
                      " bench " + args);
@@ -113,10 +120,7 @@ TEST_F(Bench, BlowUpIsRecordedAndTheSweepCarriesOn) {
 
 TEST_F(Bench, NonFiniteRunIsRecordedAsSuch) {
   // The test double nan_solid turns its positions NaN at step 3 when asked to.
-  write("nan.json", std::string(R"({"time": {"fps": 24, "frames": 4},
-    "plugin_path": [")") +
-                        SHELLFLOW_TEST_BAD_PLUGIN_DIR + R"(/run_doubles"],
-    "solids": [{"plugin": "nan_solid", "name": "tri"}]})");
+  write_nan_solid_scene("nan.json");
   write("spec.json", R"({"scene": "nan.json",
     "sweep": [{"pointer": "/solids/0/nan_after_steps", "values": [3, 0]}]})");
   const auto r = bench("spec.json --out result --no-plots");
@@ -132,10 +136,7 @@ TEST_F(Bench, NonFiniteRunIsRecordedAsSuch) {
 TEST_F(Bench, CrashedRunIsRecordedAndTheSweepCarriesOn) {
   // The test double kills its own process with SIGKILL at step 2 (as the OOM killer would):
   // the child ends by a signal, leaving no run.json. The runs before and after it complete.
-  write("kill.json", std::string(R"({"time": {"fps": 24, "frames": 4},
-    "plugin_path": [")") +
-                         SHELLFLOW_TEST_BAD_PLUGIN_DIR + R"(/run_doubles"],
-    "solids": [{"plugin": "nan_solid", "name": "tri"}]})");
+  write_nan_solid_scene("kill.json");
   write("spec.json", R"({"scene": "kill.json",
     "sweep": [{"pointer": "/solids/0/kill_after_steps", "values": [0, 2, 0]}]})");
   const auto r = bench("spec.json --out result --no-plots");

@@ -25,19 +25,7 @@ using testing::poisson_7point;
 
 /// Every face open (1), domain faces Dirichlet or walls.
 GridLaplacian uniform(const Eigen::Vector3i& cells, Boundary boundary) {
-  GridLaplacian a(cells);
-  for (int axis = 0; axis < 3; ++axis) {
-    const Eigen::Vector3i n = a.face_counts(axis);
-    for (int k = 0; k < n.z(); ++k)
-      for (int j = 0; j < n.y(); ++j)
-        for (int i = 0; i < n.x(); ++i) {
-          const int along = Eigen::Vector3i(i, j, k)[axis];
-          const bool domain_face = along == 0 || along == cells[axis];
-          testing::laplacian_face_weight(a, axis, i, j, k) =
-              domain_face && boundary == Boundary::Neumann ? 0.0 : 1.0;
-        }
-  }
-  return a;
+  return testing::box_laplacian(cells, [&](int, int) { return boundary == Boundary::Dirichlet; });
 }
 
 /// The domains of the §4.3 projection, in an n x n x n box of walls with an open top:

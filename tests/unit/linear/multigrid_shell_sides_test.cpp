@@ -40,19 +40,8 @@ std::string name_of(Sheet sheet) {
 /// The smoke box of the projection: walls (weight 0) on every domain face but an open top
 /// (y = n, Dirichlet p = 0), every interior face open (weight 1).
 GridLaplacian smoke_box(int n) {
-  GridLaplacian a({n, n, n});
-  for (int axis = 0; axis < 3; ++axis) {
-    const Eigen::Vector3i faces = a.face_counts(axis);
-    for (int k = 0; k < faces.z(); ++k)
-      for (int j = 0; j < faces.y(); ++j)
-        for (int i = 0; i < faces.x(); ++i) {
-          const int along = Eigen::Vector3i(i, j, k)[axis];
-          const bool top = axis == 1 && along == n;
-          testing::laplacian_face_weight(a, axis, i, j, k) =
-              (along == 0 || along == n) && !top ? 0.0 : 1.0;
-        }
-  }
-  return a;
+  return testing::box_laplacian({n, n, n},
+                                [n](int axis, int along) { return axis == 1 && along == n; });
 }
 
 /// An odd face index near fraction t of n: a plane there cuts the level-1 coarse cells.

@@ -26,6 +26,26 @@ inline double& laplacian_face_weight(GridLaplacian& a, int axis, int i, int j, i
   return a.weights(axis)[i + n.x() * (j + n.y() * k)];
 }
 
+/// A box of `cells` with every interior face open (weight 1) and each domain face open
+/// (Dirichlet beyond it) where `open_side(axis, along)` says so (along: 0 or cells[axis]),
+/// a wall (weight 0) elsewhere.
+template <class OpenSide>
+GridLaplacian box_laplacian(const Eigen::Vector3i& cells, OpenSide&& open_side) {
+  GridLaplacian a(cells);
+  for (int axis = 0; axis < 3; ++axis) {
+    const Eigen::Vector3i n = a.face_counts(axis);
+    for (int k = 0; k < n.z(); ++k)
+      for (int j = 0; j < n.y(); ++j)
+        for (int i = 0; i < n.x(); ++i) {
+          const int along = Eigen::Vector3i(i, j, k)[axis];
+          const bool domain_face = along == 0 || along == cells[axis];
+          laplacian_face_weight(a, axis, i, j, k) =
+              domain_face && !open_side(axis, along) ? 0.0 : 1.0;
+        }
+  }
+  return a;
+}
+
 enum class Boundary { Dirichlet, Neumann };
 
 inline int cell_index(int n, int i, int j, int k) {
