@@ -67,17 +67,9 @@ std::pair<GridLaplacian, std::vector<int>> irregular(int n) {
   return {std::move(a), std::move(group)};
 }
 
-Eigen::VectorXd random_vector(int size, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::VectorXd v(size);
-  for (auto& x : v) x = u(rng);
-  return v;
-}
-
 /// A consistent right-hand side: random, each enclosed group's mean removed.
 Eigen::VectorXd consistent_rhs(int size, const ConstantNullSpace& null_space, unsigned seed) {
-  Eigen::VectorXd b = random_vector(size, seed);
+  Eigen::VectorXd b = testing::random_vector(size, seed);
   null_space.project(b);
   return b;
 }
@@ -89,7 +81,7 @@ TEST(GridLaplacian, MatchesTheAssembledSevenPointMatrix) {
     const SparseMatrix reference = poisson_7point(n, boundary);
     // Entries are small integers: the assembled matrices agree exactly.
     EXPECT_EQ((a.to_sparse() - reference).norm(), 0.0);
-    const Eigen::VectorXd x = random_vector(n * n * n, 3);
+    const Eigen::VectorXd x = testing::random_vector(n * n * n, 3);
     Eigen::VectorXd y(x.size());
     const double xy = a.multiply_and_dot(x, y);
     const Eigen::VectorXd expected = reference * x;
@@ -108,8 +100,8 @@ TEST(MultigridPreconditioner, VCycleIsSymmetricPositiveDefinite) {
     mg.compute(a);
     EXPECT_GE(mg.levels(), 2);
     for (unsigned seed = 1; seed <= 4; ++seed) {
-      const Eigen::VectorXd x = random_vector(a.size(), seed);
-      const Eigen::VectorXd y = random_vector(a.size(), seed + 100);
+      const Eigen::VectorXd x = testing::random_vector(a.size(), seed);
+      const Eigen::VectorXd y = testing::random_vector(a.size(), seed + 100);
       Eigen::VectorXd mx, my;
       mg.apply(x, mx);
       mg.apply(y, my);
@@ -255,7 +247,7 @@ TEST(MultigridPreconditioner, FreeSurfaceDirichletCellsKeepTheCycleSymmetricAndE
   const GridLaplacian a = free_surface(n, h);
   MultigridPreconditioner mg;
   mg.compute(a);
-  Eigen::VectorXd x = random_vector(a.size(), 7), y = random_vector(a.size(), 8);
+  Eigen::VectorXd x = testing::random_vector(a.size(), 7), y = testing::random_vector(a.size(), 8);
   for (int c = 0; c < a.size(); ++c)
     if ((c / n) % n >= h) x[c] = y[c] = 0.0;  // no residual in the air
   Eigen::VectorXd mx, my;

@@ -115,14 +115,6 @@ GridLaplacian box_with(Sheet sheet, int n) {
   return a;
 }
 
-Eigen::VectorXd random_vector(int size, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  Eigen::VectorXd v(size);
-  for (auto& x : v) x = u(rng);
-  return v;
-}
-
 constexpr Sheet kSheets[] = {Sheet::Curtain, Sheet::TiltedPlate, Sheet::FoldedPocket};
 
 // The V-cycle runs in single precision: <x, M y> and <M x, y> agree to float round-off
@@ -140,8 +132,8 @@ TEST(MultigridShellSides, VCycleIsSymmetricPositiveDefiniteOnShellCutDomains) {
       const int coarse_cells = ((n + 1) / 2) * ((n + 1) / 2) * ((n + 1) / 2);
       EXPECT_GT(mg.unknowns(1), coarse_cells) << name_of(sheet) << " " << n;
       for (unsigned seed = 1; seed <= 3; ++seed) {
-        const Eigen::VectorXd x = random_vector(a.size(), seed);
-        const Eigen::VectorXd y = random_vector(a.size(), seed + 50);
+        const Eigen::VectorXd x = testing::random_vector(a.size(), seed);
+        const Eigen::VectorXd y = testing::random_vector(a.size(), seed + 50);
         Eigen::VectorXd mx, my;
         mg.apply(x, mx);
         mg.apply(y, my);
@@ -170,7 +162,7 @@ TEST(MultigridShellSides, PartSealedInsideACoarseCellKeepsTheCycleSymmetric) {
   MultigridPreconditioner mg;
   mg.compute(a);
   EXPECT_EQ(mg.unknowns(1), (n / 2) * (n / 2) * (n / 2) + 1);  // the pair: one extra part
-  Eigen::VectorXd x = random_vector(a.size(), 4), y = random_vector(a.size(), 5);
+  Eigen::VectorXd x = testing::random_vector(a.size(), 4), y = testing::random_vector(a.size(), 5);
   const int pair[] = {2 + n * (2 + n * 2), 3 + n * (2 + n * 2)};
   for (Eigen::VectorXd* v : {&x, &y}) {  // no component along the pair's constant
     const double mean = 0.5 * ((*v)[pair[0]] + (*v)[pair[1]]);
@@ -192,7 +184,7 @@ TEST(MultigridShellSides, PcgAgreesWithCholmodOnShellCutDomains) {
   const int n = 20;
   for (const Sheet sheet : kSheets) {
     const GridLaplacian a = box_with(sheet, n);
-    const Eigen::VectorXd b = random_vector(a.size(), 11);
+    const Eigen::VectorXd b = testing::random_vector(a.size(), 11);
     MultigridPreconditioner mg;
     mg.compute(a);
     Eigen::VectorXd x;
@@ -208,7 +200,7 @@ TEST(MultigridShellSides, PcgAgreesWithCholmodOnShellCutDomains) {
 
 /// MG-PCG iterations to a relative residual of 1e-8 from zero on `a`.
 int iterations_of(const GridLaplacian& a) {
-  const Eigen::VectorXd b = random_vector(a.size(), 9);
+  const Eigen::VectorXd b = testing::random_vector(a.size(), 9);
   MultigridPreconditioner mg;
   mg.compute(a);
   Eigen::VectorXd x;

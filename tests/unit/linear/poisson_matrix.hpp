@@ -26,6 +26,15 @@ inline double& laplacian_face_weight(GridLaplacian& a, int axis, int i, int j, i
   return a.weights(axis)[i + n.x() * (j + n.y() * k)];
 }
 
+/// `size` values uniform in [−1, 1] from `seed`.
+inline Eigen::VectorXd random_vector(int size, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  Eigen::VectorXd v(size);
+  for (auto& x : v) x = u(rng);
+  return v;
+}
+
 /// A box of `cells` with every interior face open (weight 1) and each domain face open
 /// (Dirichlet beyond it) where `open_side(axis, along)` says so (along: 0 or cells[axis]),
 /// a wall (weight 0) elsewhere.
