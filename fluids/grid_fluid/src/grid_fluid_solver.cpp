@@ -308,7 +308,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   if (m_liquid) {  // §4.4.1: φ refilled, then a signed distance again, against shells^{n+1}
     m_liquid->refill(shells ? m_refill.node_valid_before() : std::span<const std::uint8_t>(),
                      geom_np1);
-    m_liquid->reinitialize(geom_np1, band, t + dt);
+    m_liquid->reinitialize(geom_n, geom_np1, band, t + dt);
   }
 
   // 5. §4.2 increments back to the persistent faces, with visibility at n+1.
@@ -591,6 +591,7 @@ void GridFluid::report(sdk::Metrics& out) const {
       out.set("particles_escaped", static_cast<double>(q.escaped));
       out.set("particles_corrected_nodes", static_cast<double>(q.corrected_nodes));
       out.set("particles_deleted_at_shells", static_cast<double>(q.deleted_at_shells));
+      out.set("particles_kept_off_shells", static_cast<double>(q.kept_off_shells));
       out.set("particles_removed", static_cast<double>(q.removed));
       out.set("particles_reseeded", static_cast<double>(q.reseeded));
       out.set("particles_spray", static_cast<double>(q.spray));

@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <map>
 #include <numbers>
 
 #include "grid_fluid_test_support.hpp"
@@ -72,7 +74,7 @@ Revolution one_revolution(int cells, int per_cell, const char* advection = "semi
     phi[i] = slotted ? Zalesak::phi(grid.position(Location::Node, i))
                      : Zalesak::sphere(grid.position(Location::Node, i));
   const ShellGeometry none;
-  liquid->reinitialize(none, nullptr, 0.0);
+  liquid->reinitialize(none, none, nullptr, 0.0);
   liquid->particles().seed(liquid->level_set(), none);
 
   NodeFields nodes(grid, 0.0, false);
@@ -90,7 +92,7 @@ Revolution one_revolution(int cells, int per_cell, const char* advection = "semi
     liquid->advect(nodes, dt, none, nullptr);
     liquid->refill({}, none);
     t += dt;
-    liquid->reinitialize(none, nullptr, t);
+    liquid->reinitialize(none, none, nullptr, t);
   }
   out.volume_end = liquid->level_set().volume();
   out.particles = liquid->particles().size();
@@ -200,7 +202,7 @@ TEST(ParticleLevelSet, WaterParticlesDrivenAtAPlateStayOnTheirSide) {
   for (int s = 0; s < 8; ++s) {
     liquid->advect(nodes, dt, plate, &band);
     liquid->refill({}, plate);
-    liquid->reinitialize(plate, &band, (s + 1) * dt);
+    liquid->reinitialize(plate, plate, &band, (s + 1) * dt);
     const ParticleLevelSet& p = liquid->particles();
     for (std::int64_t i = 0; i < p.size(); ++i)
       if (p.sign(i) < 0) {
@@ -210,6 +212,175 @@ TEST(ParticleLevelSet, WaterParticlesDrivenAtAPlateStayOnTheirSide) {
   }
   EXPECT_EQ(beyond, 0);
   EXPECT_GT(near, 0);  // not vacuous: water particles were pressed against the plate
+}
+
+TEST(ParticleLevelSet, WaterParticlesKeepTheirCollisionDistanceFromAShell) {
+  // §4.4.2: a water particle nearer a shell than its collision distance is moved out along
+  // the normal. The water of the test above driven at 1 m/s into the plate for 8 steps:
+  // after each step every water particle lies at least its own collision distance from
+  // the plate's plane (to 1e-9Δx, the round-off of the move), while the paths alone would
+  // leave them within ε of it.
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i::Constant(16));
+  const double plate_x = 0.5 + grid.dx() / 3.0;
+  const std::vector<sdk::ShellSurface> shells{dam_plate(plate_x, 0.0)};
+  const ShellGeometry plate(shells, 1e-3 * grid.dx());
+  geometry::ShellBand band(grid);
+  band.add(geometry::TriangleMesh(shells.front()), 3.0 * grid.dx());
+  auto liquid =
+      make_liquid({{"particles", {{"per_cell", 16}}},
+                   {"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.5, 0.6, 2}}}}}},
+                  grid, 24.0);
+  NodeFields nodes(grid, 0.0, false);
+  std::fill(nodes.velocity(0).begin(), nodes.velocity(0).end(), 1.0);
+  const double dt = 0.9 * grid.dx();
+  double worst = std::numeric_limits<double>::infinity();
+  std::int64_t kept_off = 0;
+  for (int s = 0; s < 8; ++s) {
+    liquid->advect(nodes, dt, plate, &band);
+    liquid->refill({}, plate);
+    liquid->reinitialize(plate, plate, &band, (s + 1) * dt);
+    kept_off += liquid->particles().stats().kept_off_shells;
+    const ParticleLevelSet& p = liquid->particles();
+    for (std::int64_t i = 0; i < p.size(); ++i)
+      if (p.sign(i) < 0) {
+        const double d = (plate_x - p.position(i).x()) - p.collision_distance(i);
+        worst = std::min(worst, d);
+      }
+  }
+  EXPECT_GE(worst, -1e-9 * grid.dx());
+  EXPECT_GT(kept_off, 0);  // not vacuous: particles were moved out
+}
+
+TEST(ParticleLevelSet, WaterParticlesNearAShellDoNotCloseOnIt) {
+  // §4.4.2: a water particle within its collision distance of an object has the normal
+  // component of its velocity clamped to at least the object's. Water up to y = 0.6 is
+  // driven into a still plate (x = 0.5 + Δx/3): the nodes x < 0.47, y <= 0.5 move at
+  // 1 m/s, the rest are still. A particle is known again by its collision distance (a
+  // random draw). The first seeding ignores
+  // the plate, so some water particles start within their collision distance of it: in
+  // one advection step of 0.5Δx none of those gets nearer (to round-off), where unclamped
+  // they would close by up to the step.
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i::Constant(16));
+  const double plate_x = 0.5 + grid.dx() / 3.0;
+  const std::vector<sdk::ShellSurface> shells{dam_plate(plate_x, 0.0)};
+  const ShellGeometry plate(shells, 1e-3 * grid.dx());
+  geometry::ShellBand band(grid);
+  band.add(geometry::TriangleMesh(shells.front()), 3.0 * grid.dx());
+  auto liquid =
+      make_liquid({{"particles", {{"per_cell", 16}}},
+                   {"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.5, 0.6, 2}}}}}},
+                  grid, 24.0);
+  NodeFields nodes(grid, 0.0, false);
+  for (std::int64_t i = 0; i < nodes.size(); ++i)
+    if (grid.position(Location::Node, i).y() <= 0.5 && grid.position(Location::Node, i).x() < 0.47)
+      nodes.velocity(0)[i] = 1.0;
+  const ParticleLevelSet& p = liquid->particles();
+  std::map<double, double> before;  // collision distance -> distance to the plate
+  for (std::int64_t i = 0; i < p.size(); ++i)
+    if (p.sign(i) < 0) before[p.collision_distance(i)] = plate_x - p.position(i).x();
+  liquid->advect(nodes, 0.5 * grid.dx(), plate, &band);
+  int near = 0;
+  double worst = std::numeric_limits<double>::infinity();
+  for (std::int64_t i = 0; i < p.size(); ++i) {
+    const auto it = before.find(p.collision_distance(i));
+    if (p.sign(i) > 0 || it == before.end() || it->second >= it->first ||
+        p.position(i).y() > 0.45)
+      continue;
+    ++near;
+    worst = std::min(worst, (plate_x - p.position(i).x()) - it->second);
+  }
+  EXPECT_GT(near, 0);  // not vacuous
+  EXPECT_GE(worst, -1e-12);
+}
+
+TEST(ParticleLevelSet, AShellSweepingOverStillParticlesPushesWaterAndDeletesAir) {
+  // §4.4.2: paths are tested against the moving shell. Still water (no velocity) up to
+  // y = 0.6 with its particles; a plate spanning the tank at x = 0.3 moves +x at 0.6Δx
+  // per step for 10 steps (6Δx). The particles do not move, so only the swept test sees
+  // the plate pass over them: afterwards no particle of either sign lies in the strip the
+  // plate swept (water pushed ahead of it, air deleted), where the segment tests at n and
+  // at n+1 left every one. Exact: a count.
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i::Constant(16));
+  const double dx = grid.dx(), x0 = 0.3 + dx / 3.0, step = 0.6 * dx;
+  auto liquid =
+      make_liquid({{"particles", {{"per_cell", 16}}},
+                   {"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {2, 0.6, 2}}}}}},
+                  grid, 24.0);
+  NodeFields nodes(grid, 0.0, false);
+  const auto in_strip = [&](double from, double to, int sign) {
+    const ParticleLevelSet& p = liquid->particles();
+    int count = 0;
+    for (std::int64_t i = 0; i < p.size(); ++i)
+      if (p.sign(i) == sign && p.position(i).x() > from && p.position(i).x() < to) ++count;
+    return count;
+  };
+  const double x_end = x0 + 10 * step;
+  const int water_before = in_strip(x0, x_end, -1), air_before = in_strip(x0, x_end, 1);
+  const int water_ahead = in_strip(x_end, 2.0, -1);
+  for (int s = 0; s < 10; ++s) {
+    const std::vector<sdk::ShellSurface> s0{dam_plate(x0 + s * step, 0.0)},
+        s1{dam_plate(x0 + (s + 1) * step, 0.0)};
+    const ShellGeometry g0(s0, 1e-3 * dx), g1(s1, 1e-3 * dx);
+    geometry::ShellBand band(grid);
+    band.add_swept(geometry::TriangleMesh(s0.front()), geometry::TriangleMesh(s1.front()),
+                   3.0 * dx);
+    liquid->advect(nodes, 0.01, g0, &band);
+    liquid->refill({}, g1);
+    liquid->reinitialize(g0, g1, &band, 0.01 * (s + 1));  // 0.1 s: before the first reseed
+  }
+  EXPECT_GT(water_before, 0);  // not vacuous: the strip held particles of both signs
+  EXPECT_GT(air_before, 0);
+  EXPECT_EQ(in_strip(x0 + 1e-9, x_end, -1), 0);
+  EXPECT_EQ(in_strip(x0 + 1e-9, x_end, 1), 0);
+  // The strip's water was pushed ahead of the plate, not deleted: at least half of it is
+  // there now (a particle is deleted only where its corrected path still crosses, here at
+  // the plate's edges against the walls).
+  EXPECT_GE(in_strip(x_end, 2.0, -1) - water_ahead, water_before / 2);
+}
+
+/// A block of water 0.3 × 0.1 m (3.2Δx high) across the depth of a 1 × 0.5 × 0.25 m tank
+/// at 32 cells, on a shelf that spans the tank at y = 0.2104 (a third of a cell above a
+/// node plane), air beneath. It spreads into a layer about a cell thick; returns the
+/// relative volume change after `duration`.
+double water_spreading_on_a_shelf(int per_cell, double duration) {
+  auto fluid = test::make_fluid(
+      {{"domain", {{"min", {0, 0, 0}}, {"max", {1.0, 0.5, 0.25}}}},
+       {"resolution", 32},
+       {"pressure", {{"tolerance", 1e-5}}},
+       {"water",
+        {{"particles", {{"per_cell", per_cell}}},
+         {"initial",
+          {{{"type", "box"}, {"min", {0.35, 0.2104, -1}}, {"max", {0.65, 0.3104, 2}}}}}}}});
+  const std::vector<sdk::ShellSurface> shells{
+      test::make_plate({0.5, 0.2104, 0.125}, Eigen::Vector3d::UnitY(), 1.2, 13)};
+  const std::vector<sdk::Positions> v_eff{shells.front().velocities};
+  const double v0 = fluid->liquid()->level_set().volume();
+  double t = 0.0;
+  while (t < duration - 1e-12) {
+    const double dt = std::min(fluid->stable_dt(0.9), duration - t);
+    fluid->advect(t, dt, shells, shells);
+    fluid->project(dt, shells, v_eff);
+    t += dt;
+  }
+  return (fluid->liquid()->level_set().volume() - v0) / v0;
+}
+
+TEST(ParticleLevelSet, WaterSpreadingOnAShelfKeepsItsVolumeWithParticles) {
+  // §4.4.2: "properly colliding negative particles against objects significantly improves
+  // the ability to properly resolve thin films of fluid against an object". The layer's
+  // underside lies on the shelf, between node planes: the level set alone loses the part
+  // of it below the first nodes above the shelf as it thins.
+  const double alone = water_spreading_on_a_shelf(0, 1.5);
+  const double particles = water_spreading_on_a_shelf(16, 1.5);
+  std::printf("[  figure  ] layer spreading on a shelf, 32 cells, 1.5 s: volume %+.2f%% alone, "
+              "%+.2f%% with 16 particles per cell\n",
+              100.0 * alone, 100.0 * particles);
+  RecordProperty("volume_change_alone", std::to_string(alone));
+  RecordProperty("volume_change_particles", std::to_string(particles));
+  // Zalesak's bound above (a quarter of the level set alone's change), and the issue's 1%
+  // volume bound for Zalesak's sphere taken to a layer five times thinner: 5%.
+  EXPECT_LT(std::abs(particles), 0.25 * std::abs(alone));
+  EXPECT_LT(std::abs(particles), 0.05);
 }
 
 TEST(ParticleLevelSet, EmittedWaterGetsParticlesAsItIsEmitted) {

@@ -1,5 +1,6 @@
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
 
+#include <cmath>
 #include <limits>
 
 namespace shellflow::grid_fluid {
@@ -83,6 +84,37 @@ Eigen::Vector3d ShellGeometry::object_velocity(const Eigen::Vector3d& a,
     }
   }
   return best.shell >= 0 ? velocity_at(best) : Eigen::Vector3d::Zero();
+}
+
+std::optional<ShellContact> ShellGeometry::nearest(const Eigen::Vector3d& p, double reach,
+                                                  const Eigen::Vector3d& side) const {
+  geometry::WedgeHit best;
+  geometry::SurfacePoint closest;
+  closest.distance2 = reach * reach;
+  for (int s = 0; s < shell_count(); ++s) {
+    const auto q = m_shells[s]->bvh.closest_point(p, std::sqrt(closest.distance2));
+    if (q.triangle >= 0 && q.distance2 <= closest.distance2) {
+      closest = q;
+      best.shell = s;
+      best.triangle = q.triangle;
+      best.barycentric = q.barycentric;
+    }
+  }
+  if (best.shell < 0) return std::nullopt;
+  ShellContact c;
+  c.distance = std::sqrt(closest.distance2);
+  c.point = closest.point;
+  c.velocity = velocity_at(best);
+  // The distance gradient, unless p is on the surface to round-off (1e-9 of the reach).
+  if (c.distance > 1e-9 * reach) {
+    c.normal = (p - c.point) / c.distance;
+  } else {
+    const Eigen::Vector3d n = m_shells[best.shell]->mesh.scaled_normal(best.triangle);
+    if (n.norm() == 0.0) return std::nullopt;  // a degenerate triangle: no side to push to
+    c.normal = n.normalized();
+    if (c.normal.dot(side - c.point) < 0.0) c.normal = -c.normal;
+  }
+  return c;
 }
 
 Eigen::Vector3d ShellGeometry::clip(const Eigen::Vector3d& a, const Eigen::Vector3d& b,

@@ -6,6 +6,7 @@
 #include <limits>
 #include <random>
 
+#include "shellflow/geometry/swept_point.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::grid_fluid {
@@ -27,6 +28,41 @@ std::uint64_t mix(std::uint64_t a, std::uint64_t b, std::uint64_t c) {
   z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
   z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
   return z ^ (z >> 31);
+}
+
+/// §4.4.2: the normal component of a water particle's velocity at least the object's, so
+/// that the particle gets no nearer to it.
+void clamp_normal_velocity(Eigen::Vector3d& u, const ShellContact& contact) {
+  const double shortfall = contact.velocity.dot(contact.normal) - u.dot(contact.normal);
+  if (shortfall > 0.0) u += shortfall * contact.normal;
+}
+
+/// The earliest time in [0, 1] at which a point moving linearly from p0 to p1 meets one of
+/// the triangles of `start` moving linearly to `end` (the point's motion is taken off the
+/// triangle's: a fixed point against corners moving from x^n to x^{n+1} − (p1 − p0)), with
+/// the triangle; none if the path meets none.
+struct SweptHit {
+  double time = 2.0;
+  int triangle = -1;
+};
+SweptHit first_swept_hit(const geometry::SweptTriangleBvh& swept, const Eigen::Vector3d& p0,
+                         const Eigen::Vector3d& p1, double tolerance) {
+  SweptHit hit;
+  const geometry::Aabb path =
+      geometry::Aabb(p0.cwiseMin(p1), p0.cwiseMax(p1)).inflated(tolerance);
+  const Eigen::Vector3d motion = p1 - p0;
+  swept.triangles_overlapping(path, [&](int t) {
+    const geometry::TriangleCorners a = swept.start().corners(t);
+    geometry::TriangleCorners b = swept.end().corners(t);
+    for (auto& c : b) c -= motion;
+    const auto time = geometry::triangle_sweeps_point(p0, a, b, tolerance);
+    if (time && *time < hit.time) {
+      hit.time = *time;
+      hit.triangle = t;
+    }
+    return false;
+  });
+  return hit;
 }
 
 }  // namespace
@@ -206,10 +242,16 @@ void ParticleLevelSet::seed_cells(const LevelSet& phi, const ShellGeometry& shel
     std::mt19937_64 rng(mix(m_seed, static_cast<std::uint64_t>(m_round), cell));
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     for (int s = count[cell]; s < m_per_cell; ++s) {
-      const Eigen::Vector3d x = lo + dx * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
+      Eigen::Vector3d x = lo + dx * Eigen::Vector3d(unit(rng), unit(rng), unit(rng));
       const double collision = dx * (0.1 + 0.9 * unit(rng));  // §4.4.2: once, in [0.1Δx, Δx]
-      // Seeded ignoring the object, the sign then read from the side the particle is on.
-      const std::optional<double> seen = phi_at(phi, x, shells);
+      // Seeded ignoring the object, the sign then read from the side the particle is on; a
+      // water particle starts its collision distance off the shells, as collide() keeps it.
+      std::optional<double> seen = phi_at(phi, x, shells);
+      if (seen && *seen <= 0.0 && !shells.empty())
+        if (const auto out = off_shells(x, x, collision, shells)) {
+          x = *out;
+          seen = phi_at(phi, x, shells);
+        }
       if (!seen || std::abs(*seen) > m_band) continue;
       const double value = *seen;
       m_x.push_back(x.x());
@@ -332,11 +374,28 @@ void ParticleLevelSet::advect(const NodeFields& velocity, double dt, const Shell
     const auto sample = [&](const Eigen::Vector3d& p) {
       return velocity_at(velocity, p, shells_n, rays);
     };
-    const Eigen::Vector3d u1 = sample(x);
+    Eigen::Vector3d u1 = sample(x);
+    // §4.4.2: a water particle within its collision distance of the object does not close on it.
+    const bool water = rays && m_sign[i] < 0;
+    const std::optional<ShellContact> near =
+        water ? shells_n.nearest(x, m_collision[i], x) : std::nullopt;
+    if (near) clamp_normal_velocity(u1, *near);
     Eigen::Vector3d x1 = (x + dt * u1).cwiseMax(lower).cwiseMin(upper);
-    if (rays) x1 = shells_n.clip(x, x1, shells_n.epsilon());
+    bool collided = false;
+    if (rays) {
+      const Eigen::Vector3d clipped = shells_n.clip(x, x1, shells_n.epsilon());
+      collided = clipped != x1;
+      x1 = clipped;
+    }
     const Eigen::Vector3d u2 = sample(x1);
-    const Eigen::Vector3d u = 0.5 * (u1 + u2);
+    Eigen::Vector3d u = 0.5 * (u1 + u2);
+    if (water && (near || collided)) {
+      // ... and neither does the averaged velocity, if it was near or its forward move met
+      // the object (then the contact where it stopped).
+      const std::optional<ShellContact> contact =
+          near ? near : shells_n.nearest(x1, m_grid.dx(), x);
+      if (contact) clamp_normal_velocity(u, *contact);
+    }
     const Eigen::Vector3d x2 = (x + dt * u).cwiseMax(lower).cwiseMin(upper);
     m_u[i] = u.x();
     m_v[i] = u.y();
@@ -354,19 +413,100 @@ void ParticleLevelSet::advect(const NodeFields& velocity, double dt, const Shell
   m_stats.seconds += seconds_since(start);
 }
 
-void ParticleLevelSet::collide(const ShellGeometry& shells_np1) {
+bool ParticleLevelSet::stop_at_moving_shells(
+    std::int64_t i, const ShellGeometry& shells_n, const ShellGeometry& shells_np1,
+    const std::vector<geometry::SweptTriangleBvh>& swept) {
+  const Eigen::Vector3d p0(m_x0[i], m_y0[i], m_z0[i]);
+  const Eigen::Vector3d p1(m_x[i], m_y[i], m_z[i]);
+  // Above the positions' round-off, far below the wedge (as the §3 swept invalidation).
+  const double tolerance = 1e-3 * shells_np1.epsilon();
+  const auto earliest = [&](const Eigen::Vector3d& to) {
+    std::pair<int, SweptHit> best{-1, SweptHit{}};
+    for (int s = 0; s < static_cast<int>(swept.size()); ++s) {
+      const SweptHit h = first_swept_hit(swept[s], p0, to, tolerance);
+      if (h.triangle >= 0 && h.time < best.second.time) best = {s, h};
+    }
+    return best;
+  };
+  const auto [shell, hit] = earliest(p1);
+  if (shell < 0) return true;
+  if (m_sign[i] > 0) return false;  // an air particle that crosses a shell is deleted
+  // A water particle goes back to the side of the triangle it started on, its collision
+  // distance off the triangle's plane at n+1.
+  const geometry::TriangleCorners a = shells_n.mesh(shell).corners(hit.triangle);
+  const geometry::TriangleCorners b = shells_np1.mesh(shell).corners(hit.triangle);
+  const Eigen::Vector3d n0 = shells_n.mesh(shell).scaled_normal(hit.triangle);
+  const Eigen::Vector3d n1 = shells_np1.mesh(shell).scaled_normal(hit.triangle);
+  const double side = n0.dot(p0 - a[0]);
+  if (side == 0.0 || n1.norm() == 0.0) return false;  // on the plane: no side to go back to
+  const Eigen::Vector3d normal = (side > 0.0 ? 1.0 : -1.0) * n1.normalized();
+  const Eigen::Vector3d on_plane = p1 - normal.dot(p1 - b[0]) * normal;
+  const Eigen::Vector3d back =
+      (on_plane + m_collision[i] * normal).cwiseMax(m_grid.origin()).cwiseMin(m_grid.upper());
+  if (earliest(back).first >= 0) return false;  // the corrected path still crosses
+  m_x[i] = back.x();
+  m_y[i] = back.y();
+  m_z[i] = back.z();
+  return true;
+}
+
+std::optional<Eigen::Vector3d> ParticleLevelSet::off_shells(const Eigen::Vector3d& p,
+                                                            const Eigen::Vector3d& side,
+                                                            double collision,
+                                                            const ShellGeometry& shells) const {
+  const std::optional<ShellContact> c = shells.nearest(p, collision, side);
+  if (!c || c->distance >= collision) return std::nullopt;
+  const Eigen::Vector3d target =
+      (c->point + collision * c->normal).cwiseMax(m_grid.origin()).cwiseMin(m_grid.upper());
+  // The move is tested from outside the wedge of the triangle it leaves: if it would cross
+  // a shell (another sheet, a fold), the particle stays where it is (§4.4.2).
+  const Eigen::Vector3d from = c->point + std::max(c->distance, shells.epsilon()) * c->normal;
+  if (!shells.visible(from, target)) return std::nullopt;
+  return target;
+}
+
+void ParticleLevelSet::collide(const ShellGeometry& shells_n, const ShellGeometry& shells_np1,
+                               const geometry::ShellBand* band) {
   if (!enabled() || shells_np1.empty()) return;
   const auto start = std::chrono::steady_clock::now();
+  // The swept test needs the same meshes at both ends of the step.
+  std::vector<geometry::SweptTriangleBvh> swept;
+  bool moving = !shells_n.empty() && shells_n.shell_count() == shells_np1.shell_count();
+  for (int s = 0; moving && s < shells_np1.shell_count(); ++s)
+    moving = shells_n.mesh(s).same_topology(shells_np1.mesh(s));
+  if (moving)
+    for (int s = 0; s < shells_np1.shell_count(); ++s)
+      swept.emplace_back(shells_n.mesh(s), shells_np1.mesh(s));
+  const std::span<const std::uint8_t> in_band =
+      band ? band->flags(Location::Node) : std::span<const std::uint8_t>();
   const std::int64_t count = size();
   std::vector<std::uint8_t> keep(count, 1);
-  std::int64_t deleted = 0;
-#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : deleted)
-  for (std::int64_t i = 0; i < count; ++i)
-    if (!stop_at_shells(i, shells_np1)) {
+  std::int64_t deleted = 0, kept_off = 0;
+#pragma omp parallel for schedule(dynamic, 4096) reduction(+ : deleted, kept_off)
+  for (std::int64_t i = 0; i < count; ++i) {
+    // Only particles whose cell the band of the shells (at n and n+1) covers can meet one.
+    if (!in_band.empty() && in_band[node_stencil(m_grid, position(i)).corner(m_grid, 0)] == 0)
+      continue;
+    const bool stays = moving ? stop_at_moving_shells(i, shells_n, shells_np1, swept)
+                              : stop_at_shells(i, shells_np1);
+    if (!stays) {
       keep[i] = 0;
       ++deleted;
+      continue;
     }
+    if (m_sign[i] > 0) continue;
+    const std::optional<Eigen::Vector3d> out =
+        off_shells(position(i), Eigen::Vector3d(m_x0[i], m_y0[i], m_z0[i]), m_collision[i],
+                   shells_np1);
+    if (out) {
+      m_x[i] = out->x();
+      m_y[i] = out->y();
+      m_z[i] = out->z();
+      ++kept_off;
+    }
+  }
   m_stats.deleted_at_shells += deleted;
+  m_stats.kept_off_shells += kept_off;
   if (deleted > 0) compact(keep);
   m_stats.seconds += seconds_since(start);
 }

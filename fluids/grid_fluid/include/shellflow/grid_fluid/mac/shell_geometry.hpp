@@ -17,6 +17,14 @@
 
 namespace shellflow::grid_fluid {
 
+/// The point of the shells nearest to a query point, as a particle collides with it.
+struct ShellContact {
+  double distance = 0.0;                          ///< from the query point
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< on the surface
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< unit, towards the query's side
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< the object's velocity there
+};
+
 class ShellGeometry {
  public:
   /// No shells: everything is visible.
@@ -54,6 +62,12 @@ class ShellGeometry {
   /// first meets a wedge of thickness ε; the velocity of the surface point closest to b
   /// when the segment meets none (b lies in no wedge then, so this is a fallback only).
   Eigen::Vector3d object_velocity(const Eigen::Vector3d& a, const Eigen::Vector3d& b) const;
+  /// The nearest surface point to p within `reach`, or none. Its normal points from the
+  /// surface to p (the unit distance gradient); where p lies on the surface within round-off,
+  /// the triangle's normal turned towards `side` (a point known to be on p's side, e.g. where
+  /// p came from) stands in.
+  std::optional<ShellContact> nearest(const Eigen::Vector3d& p, double reach,
+                                      const Eigen::Vector3d& side) const;
   /// The velocity at a hit.
   Eigen::Vector3d velocity_at(const geometry::WedgeHit& hit) const;
   /// The wedge [a, b] meets first (thickness ε), or none; hit.shell is an internal index.

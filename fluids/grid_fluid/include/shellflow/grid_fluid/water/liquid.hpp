@@ -5,7 +5,7 @@
 //   add_sources()  emitters union their shapes into φ and hold their faces
 //   refill()       nodes swept by the shells n → n+1 (and those whose stencil saw no
 //                  visible node) take valid values (§3)
-//   reinitialize() particle paths against the shells at n+1, the particles' correction of
+//   reinitialize() particle paths against the shells moving n → n+1, the particles' correction of
 //                  φ, fast marching to a signed distance against the shells at n+1, the
 //                  correction again, radii, and every few frames a reseeding (§4.4.2)
 //   surface()      the liquid cells and ghost-fluid data for the projection (§4.3)
@@ -74,8 +74,10 @@ class Liquid {
   void add_sources(double t, DomainBoundary& boundary);
   /// `swept` flags (0) the nodes the shells swept n → n+1 (SweptRefill); may be empty.
   void refill(std::span<const std::uint8_t> node_valid_before, const ShellGeometry& shells);
-  /// `t_end`: the time at the end of the step.
-  void reinitialize(const ShellGeometry& shells, const geometry::ShellBand* band, double t_end);
+  /// `shells_n`, `shells`: the shells at the start and the end of the step; `t_end`: the
+  /// time at the end of the step.
+  void reinitialize(const ShellGeometry& shells_n, const ShellGeometry& shells,
+                    const geometry::ShellBand* band, double t_end);
   /// The projection's view of the liquid (valid until the next advect()): φ at the cell
   /// centres, the mean of the corners each centre sees (`band`: the cells where rays are
   /// cast; may be null without shells).

@@ -6,12 +6,20 @@
 // step:
 //   advect()   §4.4.2's second-order path: move with the velocity at the particle, sample
 //              the velocity there, average, and move from the start with the average; each
-//              path is checked against the shells at n (the stationary object)
-//   collide()  the same paths against the shells at n+1, which moved during the step (a
-//              segment test at each end, not yet the swept test of a moving shell). A
-//              path that crosses a shell deletes an air particle; a water particle is put
-//              back on its own side, its collision distance off the shell along the
-//              triangle's normal, and deleted if that point is not visible from its start
+//              path is checked against the shells at n (the stationary object). A water
+//              particle nearer a shell than its collision distance, or whose forward move
+//              met one, has the normal component of its velocity clamped to at least the
+//              object's, so it gets no nearer
+//   collide()  the paths against the shells moving from n to n+1: the particle's path
+//              and each triangle's linear motion are tested together (the relative motion
+//              of a point against a moving triangle, geometry/swept_point), so a shell
+//              sweeping over a particle is caught as well as a particle crossing a shell.
+//              A crossing deletes an air particle; a water particle is put back on the side
+//              it started on, its collision distance off the triangle at n+1, and deleted
+//              if that corrected path still crosses. Then every water particle nearer a
+//              shell than its collision distance (drawn once in [0.1Δx, Δx]) is moved out
+//              along the distance gradient to it, or left where it is if the move would
+//              cross a shell (§4.4.2)
 //   correct()  escaped particles (on the wrong side by more than their radius) rebuild φ
 //              at the corners of their cell that they see: water spheres lower φ, air
 //              spheres raise it, and of the two the value nearer zero wins (Enright 2002,
@@ -27,7 +35,8 @@
 //              volume with them as without them
 //   reseed_if_due()  every `reseed_every` frames: band cells holding fewer than `per_cell`
 //              particles get new ones (seeded ignoring the shells, then their sign taken
-//              from φ as seen from them, §4.4.2), cells holding more than twice lose the
+//              from φ as seen from them, §4.4.2; water ones moved out to their collision
+//              distance), cells holding more than twice lose the
 //              excess; the cells about an emitter that is on are topped up every step,
 //              and the air particles its water now covers are dropped
 // Spray (for writers; it never acts on φ or the velocity): a removed water particle
@@ -47,6 +56,7 @@
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/geometry/swept_triangle_bvh.hpp"
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
@@ -64,6 +74,7 @@ struct ParticleStats {
   std::int64_t escaped = 0;            ///< escaped particles used by the two corrections
   std::int64_t corrected_nodes = 0;    ///< nodes whose φ a correction changed
   std::int64_t deleted_at_shells = 0;  ///< particles whose path crossed a shell, deleted
+  std::int64_t kept_off_shells = 0;    ///< water particles moved out to their collision distance
   std::int64_t removed = 0;            ///< water particles removed as escaped (spray)
   std::int64_t reseeded = 0;           ///< particles added by seeding this step
   std::int64_t spray = 0;              ///< spray drops in flight after the step
@@ -86,6 +97,9 @@ class ParticleLevelSet {
   Eigen::Vector3d position(std::int64_t i) const { return {m_x[i], m_y[i], m_z[i]}; }
   int sign(std::int64_t i) const { return m_sign[i]; }
   double radius(std::int64_t i) const { return m_radius[i]; }
+  /// The distance particle i keeps from shells if it is water (§4.4.2: drawn once in
+  /// [0.1Δx, Δx]).
+  double collision_distance(std::int64_t i) const { return m_collision[i]; }
   /// The spray drops in flight (see the file's comment).
   const ParticleArrays& spray() const { return m_spray; }
   /// The particles of sign `sign` (−1 water, +1 air) with the node velocity at each (the
@@ -101,7 +115,10 @@ class ParticleLevelSet {
   void seed(const LevelSet& phi, const ShellGeometry& shells);
   void advect(const NodeFields& velocity, double dt, const ShellGeometry& shells_n,
               const geometry::ShellBand* band);
-  void collide(const ShellGeometry& shells_np1);
+  /// `shells_n`, `shells_np1`: the shells at the start and the end of the step (the same
+  /// meshes moved; otherwise the paths are only tested against the shells at n+1).
+  void collide(const ShellGeometry& shells_n, const ShellGeometry& shells_np1,
+               const geometry::ShellBand* band);
   /// Returns the number of nodes changed.
   std::int64_t correct(LevelSet& phi, const ShellGeometry& shells);
   void adjust(const LevelSet& phi, const ShellGeometry& shells);
@@ -124,6 +141,15 @@ class ParticleLevelSet {
   /// Stops the path from the start position to particle i's position at the shells;
   /// returns false when the particle must be deleted.
   bool stop_at_shells(std::int64_t i, const ShellGeometry& shells);
+  /// The same against shells moving from n to n+1 (`swept`: one hierarchy per shell).
+  bool stop_at_moving_shells(std::int64_t i, const ShellGeometry& shells_n,
+                             const ShellGeometry& shells_np1,
+                             const std::vector<geometry::SweptTriangleBvh>& swept);
+  /// Where a water particle at p nearer the shells than `collision` moves to: out along the
+  /// distance gradient to that distance (§4.4.2); none when it is far enough or the move
+  /// would cross a shell. `side`: a point on p's side (see ShellGeometry::nearest).
+  std::optional<Eigen::Vector3d> off_shells(const Eigen::Vector3d& p, const Eigen::Vector3d& side,
+                                            double collision, const ShellGeometry& shells) const;
   /// Seeds the band cells holding fewer than per_cell (all cells, or those of `within`);
   /// `top_up`: first trims cells holding more than twice per_cell.
   void seed_cells(const LevelSet& phi, const ShellGeometry& shells, bool top_up,
