@@ -159,7 +159,7 @@ void Liquid::refill(std::span<const std::uint8_t> node_valid_before, const Shell
 void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& shells,
                           const geometry::ShellBand* band, double t_end) {
   // Enright et al. 2002: the particles correct φ before and after reinitialisation.
-  m_particles.collide(shells_n, shells, band);
+  m_particles.collide(m_level_set, shells_n, shells, band);
   m_particles.correct(m_level_set, shells);
   const auto start = std::chrono::steady_clock::now();
   m_stats.reinitialization =

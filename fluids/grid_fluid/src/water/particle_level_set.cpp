@@ -465,8 +465,8 @@ std::optional<Eigen::Vector3d> ParticleLevelSet::off_shells(const Eigen::Vector3
   return target;
 }
 
-void ParticleLevelSet::collide(const ShellGeometry& shells_n, const ShellGeometry& shells_np1,
-                               const geometry::ShellBand* band) {
+void ParticleLevelSet::collide(const LevelSet& phi, const ShellGeometry& shells_n,
+                               const ShellGeometry& shells_np1, const geometry::ShellBand* band) {
   if (!enabled() || shells_np1.empty()) return;
   const auto start = std::chrono::steady_clock::now();
   // The swept test needs the same meshes at both ends of the step.
@@ -498,7 +498,10 @@ void ParticleLevelSet::collide(const ShellGeometry& shells_n, const ShellGeometr
     const std::optional<Eigen::Vector3d> out =
         off_shells(position(i), Eigen::Vector3d(m_x0[i], m_y0[i], m_z0[i]), m_collision[i],
                    shells_np1);
-    if (out) {
+    // Not out of the water by more than its radius: such a move would make it an escaped
+    // particle, water where there was none (a still pool cut by a tilted plate stirred).
+    const std::optional<double> there = out ? phi_at(phi, *out, shells_np1) : std::nullopt;
+    if (there && *there <= m_radius[i]) {
       m_x[i] = out->x();
       m_y[i] = out->y();
       m_z[i] = out->z();

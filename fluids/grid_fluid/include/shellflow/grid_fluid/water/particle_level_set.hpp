@@ -19,7 +19,8 @@
 //              if that corrected path still crosses. Then every water particle nearer a
 //              shell than its collision distance (drawn once in [0.1Δx, Δx]) is moved out
 //              along the distance gradient to it, or left where it is if the move would
-//              cross a shell (§4.4.2)
+//              cross a shell (§4.4.2) or carry it out of the water by more than its radius
+//              (it would be an escaped particle making water in the air)
 //   correct()  escaped particles (on the wrong side by more than their radius) rebuild φ
 //              at the corners of their cell that they see: water spheres lower φ, air
 //              spheres raise it, and of the two the value nearer zero wins (Enright 2002,
@@ -117,8 +118,8 @@ class ParticleLevelSet {
               const geometry::ShellBand* band);
   /// `shells_n`, `shells_np1`: the shells at the start and the end of the step (the same
   /// meshes moved; otherwise the paths are only tested against the shells at n+1).
-  void collide(const ShellGeometry& shells_n, const ShellGeometry& shells_np1,
-               const geometry::ShellBand* band);
+  void collide(const LevelSet& phi, const ShellGeometry& shells_n,
+               const ShellGeometry& shells_np1, const geometry::ShellBand* band);
   /// Returns the number of nodes changed.
   std::int64_t correct(LevelSet& phi, const ShellGeometry& shells);
   void adjust(const LevelSet& phi, const ShellGeometry& shells);
