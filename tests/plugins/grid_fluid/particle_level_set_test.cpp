@@ -1,8 +1,9 @@
 // The particle level set (§4.4.2; Enright, Fedkiw, Ferziger, Mitchell 2002; Enright,
 // Losasso, Fedkiw 2005) in grid_fluid's Liquid: Zalesak's slotted sphere in a rigid
 // rotation keeps its volume far better with particles than with the level set alone,
-// particles never cross a thin shell, and save/restore gives the particles back bit for
-// bit.
+// particles never cross a thin shell, moving or not, water particles keep their collision
+// distance from it and do not close on it (§4.4.2), a layer on a shelf keeps its water,
+// and save/restore gives the particles back bit for bit.
 
 #include <gtest/gtest.h>
 
