@@ -189,7 +189,10 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
       });
   std::int64_t marched = 0;
   while (!heap.empty()) {
-    const auto [d, i] = heap.top();
+    // Plain names, not a structured binding: the lambda below captures i (clang 14, which
+    // the fuzzer and sanitizer builds use, cannot capture structured bindings).
+    const double d = heap.top().first;
+    const std::int64_t i = heap.top().second;
     heap.pop();
     if (m_accepted[i] != 0 || d > m_distance[i]) continue;  // stale entry
     if (d > band) break;
