@@ -180,21 +180,32 @@ int run_dam(GridFluid& f, double x0, double speed, double duration) {
   return worst;
 }
 
+/// Water x < 0.5 up to y = 0.6 with 16 particles per cell in a 16^3 tank, and a still
+/// plate spanning it at x = 0.5 + Δx/3 (between node planes), with its band.
+struct WaterAgainstAPlate {
+  grid::UniformGrid grid{Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i::Constant(16)};
+  double plate_x = 0.5 + grid.dx() / 3.0;
+  std::vector<sdk::ShellSurface> shells{dam_plate(plate_x, 0.0)};
+  ShellGeometry plate{shells, 1e-3 * grid.dx()};
+  geometry::ShellBand band{grid};
+  std::unique_ptr<Liquid> liquid =
+      make_liquid({{"particles", {{"per_cell", 16}}},
+                   {"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.5, 0.6, 2}}}}}},
+                  grid, 24.0);
+  WaterAgainstAPlate() { band.add(geometry::TriangleMesh(shells.front()), 3.0 * grid.dx()); }
+};
+
 TEST(ParticleLevelSet, WaterParticlesDrivenAtAPlateStayOnTheirSide) {
   // §4.4.2: a path that crosses a shell is stopped on its own side. Water x < 0.5 driven at
   // 1 m/s into a plate at x = 0.5 + Δx/3 (16^3, steps of 0.9Δx): the velocity at a particle
   // next to the plate is half the water's (the object's, 0, behind it), enough to carry it
   // through in a step; none ever lies beyond the plate. Exact: a count.
-  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i::Constant(16));
-  const double plate_x = 0.5 + grid.dx() / 3.0;
-  const std::vector<sdk::ShellSurface> shells{dam_plate(plate_x, 0.0)};
-  const ShellGeometry plate(shells, 1e-3 * grid.dx());
-  geometry::ShellBand band(grid);
-  band.add(geometry::TriangleMesh(shells.front()), 3.0 * grid.dx());
-  auto liquid =
-      make_liquid({{"particles", {{"per_cell", 16}}},
-                   {"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.5, 0.6, 2}}}}}},
-                  grid, 24.0);
+  WaterAgainstAPlate setup;
+  const grid::UniformGrid& grid = setup.grid;
+  const double plate_x = setup.plate_x;
+  const ShellGeometry& plate = setup.plate;
+  geometry::ShellBand& band = setup.band;
+  auto& liquid = setup.liquid;
   ASSERT_GT(liquid->particles().size(), 0);
   NodeFields nodes(grid, 0.0, false);
   std::fill(nodes.velocity(0).begin(), nodes.velocity(0).end(), 1.0);
@@ -221,16 +232,12 @@ TEST(ParticleLevelSet, WaterParticlesKeepTheirCollisionDistanceFromAShell) {
   // after each step every water particle lies at least its own collision distance from
   // the plate's plane (to 1e-9Δx, the round-off of the move), while the paths alone would
   // leave them within ε of it.
-  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i::Constant(16));
-  const double plate_x = 0.5 + grid.dx() / 3.0;
-  const std::vector<sdk::ShellSurface> shells{dam_plate(plate_x, 0.0)};
-  const ShellGeometry plate(shells, 1e-3 * grid.dx());
-  geometry::ShellBand band(grid);
-  band.add(geometry::TriangleMesh(shells.front()), 3.0 * grid.dx());
-  auto liquid =
-      make_liquid({{"particles", {{"per_cell", 16}}},
-                   {"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.5, 0.6, 2}}}}}},
-                  grid, 24.0);
+  WaterAgainstAPlate setup;
+  const grid::UniformGrid& grid = setup.grid;
+  const double plate_x = setup.plate_x;
+  const ShellGeometry& plate = setup.plate;
+  geometry::ShellBand& band = setup.band;
+  auto& liquid = setup.liquid;
   NodeFields nodes(grid, 0.0, false);
   std::fill(nodes.velocity(0).begin(), nodes.velocity(0).end(), 1.0);
   const double dt = 0.9 * grid.dx();
@@ -257,20 +264,15 @@ TEST(ParticleLevelSet, WaterParticlesNearAShellDoNotCloseOnIt) {
   // component of its velocity clamped to at least the object's. Water up to y = 0.6 is
   // driven into a still plate (x = 0.5 + Δx/3): the nodes x < 0.47, y <= 0.5 move at
   // 1 m/s, the rest are still. A particle is known again by its collision distance (a
-  // random draw). The first seeding ignores
-  // the plate, so some water particles start within their collision distance of it: in
-  // one advection step of 0.5Δx none of those gets nearer (to round-off), where unclamped
-  // they would close by up to the step.
-  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i::Constant(16));
-  const double plate_x = 0.5 + grid.dx() / 3.0;
-  const std::vector<sdk::ShellSurface> shells{dam_plate(plate_x, 0.0)};
-  const ShellGeometry plate(shells, 1e-3 * grid.dx());
-  geometry::ShellBand band(grid);
-  band.add(geometry::TriangleMesh(shells.front()), 3.0 * grid.dx());
-  auto liquid =
-      make_liquid({{"particles", {{"per_cell", 16}}},
-                   {"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.5, 0.6, 2}}}}}},
-                  grid, 24.0);
+  // random draw). The first seeding ignores the plate, so some water particles start
+  // within their collision distance of it: in one advection step of 0.5Δx none of those
+  // gets nearer (to round-off), where unclamped they would close by up to the step.
+  WaterAgainstAPlate setup;
+  const grid::UniformGrid& grid = setup.grid;
+  const double plate_x = setup.plate_x;
+  const ShellGeometry& plate = setup.plate;
+  geometry::ShellBand& band = setup.band;
+  auto& liquid = setup.liquid;
   NodeFields nodes(grid, 0.0, false);
   for (std::int64_t i = 0; i < nodes.size(); ++i)
     if (grid.position(Location::Node, i).y() <= 0.5 && grid.position(Location::Node, i).x() < 0.47)
