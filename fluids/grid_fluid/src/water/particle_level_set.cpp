@@ -473,6 +473,11 @@ void ParticleLevelSet::collide(const LevelSet& phi, const ShellGeometry& shells_
   bool moving = !shells_n.empty() && shells_n.shell_count() == shells_np1.shell_count();
   for (int s = 0; moving && s < shells_np1.shell_count(); ++s)
     moving = shells_n.mesh(s).same_topology(shells_np1.mesh(s));
+  // Shells that did not move need no swept hierarchy: the segment test at n+1 is exact.
+  bool moved = false;
+  for (int s = 0; moving && !moved && s < shells_np1.shell_count(); ++s)
+    moved = shells_n.mesh(s).positions() != shells_np1.mesh(s).positions();
+  moving = moving && moved;
   if (moving)
     for (int s = 0; s < shells_np1.shell_count(); ++s)
       swept.emplace_back(shells_n.mesh(s), shells_np1.mesh(s));
