@@ -193,6 +193,12 @@ struct WaterAgainstAPlate {
                    {"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.5, 0.6, 2}}}}}},
                   grid, 24.0);
   WaterAgainstAPlate() { band.add(geometry::TriangleMesh(shells.front()), 3.0 * grid.dx()); }
+  /// One step of the water's phases at the still plate, ending at t_end.
+  void step(const NodeFields& nodes, double dt, double t_end) {
+    liquid->advect(nodes, dt, plate, &band);
+    liquid->refill({}, plate);
+    liquid->reinitialize(plate, plate, &band, t_end);
+  }
 };
 
 TEST(ParticleLevelSet, WaterParticlesDrivenAtAPlateStayOnTheirSide) {
@@ -200,26 +206,19 @@ TEST(ParticleLevelSet, WaterParticlesDrivenAtAPlateStayOnTheirSide) {
   // 1 m/s into a plate at x = 0.5 + Δx/3 (16^3, steps of 0.9Δx): the velocity at a particle
   // next to the plate is half the water's (the object's, 0, behind it), enough to carry it
   // through in a step; none ever lies beyond the plate. Exact: a count.
-  WaterAgainstAPlate setup;
-  const grid::UniformGrid& grid = setup.grid;
-  const double plate_x = setup.plate_x;
-  const ShellGeometry& plate = setup.plate;
-  geometry::ShellBand& band = setup.band;
-  auto& liquid = setup.liquid;
-  ASSERT_GT(liquid->particles().size(), 0);
-  NodeFields nodes(grid, 0.0, false);
+  WaterAgainstAPlate w;
+  ASSERT_GT(w.liquid->particles().size(), 0);
+  NodeFields nodes(w.grid, 0.0, false);
   std::fill(nodes.velocity(0).begin(), nodes.velocity(0).end(), 1.0);
-  const double dt = 0.9 * grid.dx();
+  const double dt = 0.9 * w.grid.dx();
   int beyond = 0, near = 0;
   for (int s = 0; s < 8; ++s) {
-    liquid->advect(nodes, dt, plate, &band);
-    liquid->refill({}, plate);
-    liquid->reinitialize(plate, plate, &band, (s + 1) * dt);
-    const ParticleLevelSet& p = liquid->particles();
+    w.step(nodes, dt, (s + 1) * dt);
+    const ParticleLevelSet& p = w.liquid->particles();
     for (std::int64_t i = 0; i < p.size(); ++i)
       if (p.sign(i) < 0) {
-        beyond += p.position(i).x() > plate_x ? 1 : 0;
-        near += p.position(i).x() > plate_x - 0.5 * grid.dx() ? 1 : 0;
+        beyond += p.position(i).x() > w.plate_x ? 1 : 0;
+        near += p.position(i).x() > w.plate_x - 0.5 * w.grid.dx() ? 1 : 0;
       }
   }
   EXPECT_EQ(beyond, 0);
@@ -232,30 +231,23 @@ TEST(ParticleLevelSet, WaterParticlesKeepTheirCollisionDistanceFromAShell) {
   // after each step every water particle lies at least its own collision distance from
   // the plate's plane (to 1e-9Δx, the round-off of the move), while the paths alone would
   // leave them within ε of it.
-  WaterAgainstAPlate setup;
-  const grid::UniformGrid& grid = setup.grid;
-  const double plate_x = setup.plate_x;
-  const ShellGeometry& plate = setup.plate;
-  geometry::ShellBand& band = setup.band;
-  auto& liquid = setup.liquid;
-  NodeFields nodes(grid, 0.0, false);
+  WaterAgainstAPlate w;
+  NodeFields nodes(w.grid, 0.0, false);
   std::fill(nodes.velocity(0).begin(), nodes.velocity(0).end(), 1.0);
-  const double dt = 0.9 * grid.dx();
+  const double dt = 0.9 * w.grid.dx();
   double worst = std::numeric_limits<double>::infinity();
   std::int64_t kept_off = 0;
   for (int s = 0; s < 8; ++s) {
-    liquid->advect(nodes, dt, plate, &band);
-    liquid->refill({}, plate);
-    liquid->reinitialize(plate, plate, &band, (s + 1) * dt);
-    kept_off += liquid->particles().stats().kept_off_shells;
-    const ParticleLevelSet& p = liquid->particles();
+    w.step(nodes, dt, (s + 1) * dt);
+    kept_off += w.liquid->particles().stats().kept_off_shells;
+    const ParticleLevelSet& p = w.liquid->particles();
     for (std::int64_t i = 0; i < p.size(); ++i)
       if (p.sign(i) < 0) {
-        const double d = (plate_x - p.position(i).x()) - p.collision_distance(i);
+        const double d = (w.plate_x - p.position(i).x()) - p.collision_distance(i);
         worst = std::min(worst, d);
       }
   }
-  EXPECT_GE(worst, -1e-9 * grid.dx());
+  EXPECT_GE(worst, -1e-9 * w.grid.dx());
   EXPECT_GT(kept_off, 0);  // not vacuous: particles were moved out
 }
 
@@ -267,21 +259,16 @@ TEST(ParticleLevelSet, WaterParticlesNearAShellDoNotCloseOnIt) {
   // random draw). The first seeding ignores the plate, so some water particles start
   // within their collision distance of it: in one advection step of 0.5Δx none of those
   // gets nearer (to round-off), where unclamped they would close by up to the step.
-  WaterAgainstAPlate setup;
-  const grid::UniformGrid& grid = setup.grid;
-  const double plate_x = setup.plate_x;
-  const ShellGeometry& plate = setup.plate;
-  geometry::ShellBand& band = setup.band;
-  auto& liquid = setup.liquid;
-  NodeFields nodes(grid, 0.0, false);
+  WaterAgainstAPlate w;
+  NodeFields nodes(w.grid, 0.0, false);
   for (std::int64_t i = 0; i < nodes.size(); ++i)
-    if (grid.position(Location::Node, i).y() <= 0.5 && grid.position(Location::Node, i).x() < 0.47)
+    if (const Eigen::Vector3d x = w.grid.position(Location::Node, i); x.y() <= 0.5 && x.x() < 0.47)
       nodes.velocity(0)[i] = 1.0;
-  const ParticleLevelSet& p = liquid->particles();
+  const ParticleLevelSet& p = w.liquid->particles();
   std::map<double, double> before;  // collision distance -> distance to the plate
   for (std::int64_t i = 0; i < p.size(); ++i)
-    if (p.sign(i) < 0) before[p.collision_distance(i)] = plate_x - p.position(i).x();
-  liquid->advect(nodes, 0.5 * grid.dx(), plate, &band);
+    if (p.sign(i) < 0) before[p.collision_distance(i)] = w.plate_x - p.position(i).x();
+  w.liquid->advect(nodes, 0.5 * w.grid.dx(), w.plate, &w.band);
   int near = 0;
   double worst = std::numeric_limits<double>::infinity();
   for (std::int64_t i = 0; i < p.size(); ++i) {
@@ -290,7 +277,7 @@ TEST(ParticleLevelSet, WaterParticlesNearAShellDoNotCloseOnIt) {
         p.position(i).y() > 0.45)
       continue;
     ++near;
-    worst = std::min(worst, (plate_x - p.position(i).x()) - it->second);
+    worst = std::min(worst, (w.plate_x - p.position(i).x()) - it->second);
   }
   EXPECT_GT(near, 0);  // not vacuous
   EXPECT_GE(worst, -1e-12);
