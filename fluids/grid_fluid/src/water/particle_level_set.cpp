@@ -126,6 +126,11 @@ Eigen::Vector3d ParticleLevelSet::velocity_at(const NodeFields& velocity, const 
   return u;
 }
 
+bool ParticleLevelSet::in_cell_band(std::span<const std::uint8_t> node_flags,
+                                    const Eigen::Vector3d& x) const {
+  return node_flags[node_stencil(m_grid, x).corner(m_grid, 0)] != 0;
+}
+
 std::int64_t ParticleLevelSet::cell_of(std::int64_t i) const {
   const Eigen::Vector3d f =
       (Eigen::Vector3d(m_x[i], m_y[i], m_z[i]) - m_grid.origin()) / m_grid.dx();
@@ -339,7 +344,7 @@ void ParticleLevelSet::gather(int sign, const NodeFields& velocity, const ShellG
 #pragma omp parallel for schedule(static)
   for (std::int64_t s = 0; s < n; ++s) {
     const Eigen::Vector3d x = position(chosen[s]);
-    const bool rays = !in_band.empty() && in_band[node_stencil(m_grid, x).corner(m_grid, 0)] != 0;
+    const bool rays = !in_band.empty() && in_cell_band(in_band, x);
     const Eigen::Vector3d u = velocity_at(velocity, x, shells, rays);
     for (int a = 0; a < 3; ++a) {
       out.position[a][s] = x[a];
@@ -368,7 +373,7 @@ void ParticleLevelSet::advect(const NodeFields& velocity, double dt, const Shell
 #pragma omp parallel for schedule(static) reduction(+ : deleted)
   for (std::int64_t i = 0; i < count; ++i) {
     const Eigen::Vector3d x(m_x[i], m_y[i], m_z[i]);
-    const bool rays = !in_band.empty() && in_band[node_stencil(m_grid, x).corner(m_grid, 0)] != 0;
+    const bool rays = !in_band.empty() && in_cell_band(in_band, x);
     // §4.4.2: forward against the stationary object, the velocity there, averaged.
     const auto sample = [&](const Eigen::Vector3d& p) {
       return velocity_at(velocity, p, shells_n, rays);
@@ -470,14 +475,14 @@ void ParticleLevelSet::collide(const LevelSet& phi, const ShellGeometry& shells_
   const auto start = std::chrono::steady_clock::now();
   // The swept test needs the same meshes at both ends of the step.
   std::vector<geometry::SweptTriangleBvh> swept;
-  bool moving = !shells_n.empty() && shells_n.shell_count() == shells_np1.shell_count();
-  for (int s = 0; moving && s < shells_np1.shell_count(); ++s)
-    moving = shells_n.mesh(s).same_topology(shells_np1.mesh(s));
   // Shells that did not move need no swept hierarchy: the segment test at n+1 is exact.
+  bool same = !shells_n.empty() && shells_n.shell_count() == shells_np1.shell_count();
   bool moved = false;
-  for (int s = 0; moving && !moved && s < shells_np1.shell_count(); ++s)
-    moved = shells_n.mesh(s).positions() != shells_np1.mesh(s).positions();
-  moving = moving && moved;
+  for (int s = 0; same && s < shells_np1.shell_count(); ++s) {
+    same = shells_n.mesh(s).same_topology(shells_np1.mesh(s));
+    moved = moved || (same && shells_n.mesh(s).positions() != shells_np1.mesh(s).positions());
+  }
+  const bool moving = same && moved;
   if (moving)
     for (int s = 0; s < shells_np1.shell_count(); ++s)
       swept.emplace_back(shells_n.mesh(s), shells_np1.mesh(s));
@@ -489,7 +494,7 @@ void ParticleLevelSet::collide(const LevelSet& phi, const ShellGeometry& shells_
 #pragma omp parallel for schedule(dynamic, 4096) reduction(+ : deleted, kept_off)
   for (std::int64_t i = 0; i < count; ++i) {
     // Only particles whose cell the band of the shells (at n and n+1) covers can meet one.
-    if (!in_band.empty() && in_band[node_stencil(m_grid, position(i)).corner(m_grid, 0)] == 0)
+    if (!in_band.empty() && !in_cell_band(in_band, position(i)))
       continue;
     const bool stays = moving ? stop_at_moving_shells(i, shells_n, shells_np1, swept)
                               : stop_at_shells(i, shells_np1);

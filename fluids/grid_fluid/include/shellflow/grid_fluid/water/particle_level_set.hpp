@@ -54,6 +54,7 @@
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
@@ -162,6 +163,9 @@ class ParticleLevelSet {
   /// velocities while those are kept in step).
   void compact(const std::vector<std::uint8_t>& keep);
   std::int64_t cell_of(std::int64_t i) const;
+  /// Whether the cell holding x has its lowest corner flagged in `node_flags` (a shell
+  /// band's node flags): only there can a particle's path or stencil meet a shell.
+  bool in_cell_band(std::span<const std::uint8_t> node_flags, const Eigen::Vector3d& x) const;
 
   grid::UniformGrid m_grid;
   LevelSetAdvector m_sampler;
