@@ -74,7 +74,12 @@ FluidProbes::FluidProbes(const nlohmann::json& probes, const std::string& path,
       probe.type = Type::VelocityError;
       // Sampled once: the reference does not change, the report is then a plain sum.
       MacGrid sampled(grid);
-      AnalyticVelocity(p.at("reference"), grid).fill(sampled);
+      const AnalyticVelocity reference(p.at("reference"), grid, here + "/reference");
+      if (!reference.steady())
+        throw ConfigError(here + "/reference",
+                          "the reference must not change with time (it is sampled once): "
+                          "use taylor_green or rigid_rotation");
+      reference.fill(sampled);
       double largest = 0.0;
       for (int a = 0; a < 3; ++a) {
         probe.reference[a] = sampled.face_velocity(a);

@@ -140,6 +140,14 @@ sdk::Schema GridFluid::schema() {
              AnalyticVelocity::schema().optional().doc(
                  "the velocity at t = 0 (default: at rest): an analytic field for known "
                  "answers (Taylor–Green's decay, a manufactured projection)"))
+      .field("prescribed_velocity",
+             AnalyticVelocity::schema().optional().doc(
+                 "water only: the water is carried by this field at every step instead of "
+                 "a solved velocity (no gravity, pressure or extrapolation; shells still "
+                 "block the rays): the level set's transport tests (Zalesak's slotted "
+                 "sphere in a rigid_rotation, LeVeque's deformation). Adds the column "
+                 "water_symmetric_difference, the volume where the water differs from its "
+                 "shape at t = 0"))
       .field("probes", FluidProbes::schema());
 }
 
@@ -181,16 +189,41 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
     m_sources.emplace_back(sources[i], "/sources/" + std::to_string(i));
     m_temperature = m_temperature || m_sources.back().temperature().has_value();
   }
+  if (params.contains("prescribed_velocity") && !params.at("prescribed_velocity").is_null()) {
+    if (!m_liquid)
+      throw ConfigError("/prescribed_velocity",
+                        "a prescribed velocity carries water: add a /water block (smoke is "
+                        "always solved for)");
+    if (!m_liquid->sources().empty())
+      throw ConfigError("/water/sources",
+                        "emitters set their own velocity, which a prescribed velocity would "
+                        "overwrite: leave /water/sources empty with /prescribed_velocity");
+    if (params.contains("initial_velocity") && !params.at("initial_velocity").is_null())
+      throw ConfigError("/initial_velocity",
+                        "the prescribed velocity is the velocity at every time: leave "
+                        "/initial_velocity out");
+    m_prescribed.emplace(params.at("prescribed_velocity"), m_mac.grid(), "/prescribed_velocity");
+    m_initial_phi = m_liquid->level_set().phi();
+  }
   m_probes = FluidProbes(params.at("probes"), "/probes", m_mac.grid());
   m_nodes = NodeFields(m_mac.grid(), m_buoyancy.ambient_temperature, m_liquid == nullptr);
-  m_next = m_nodes;
-  for (auto& u : m_u_n) u.assign(m_nodes.size(), 0.0);
+  if (!m_prescribed) {  // what the solved step advects into
+    m_next = m_nodes;
+    for (auto& u : m_u_n) u.assign(m_nodes.size(), 0.0);
+  }
   if (params.contains("initial_velocity") && !params.at("initial_velocity").is_null()) {
     // Faces only: advect() transfers them to the nodes before its first step (§4.2).
     AnalyticVelocity(params.at("initial_velocity"), m_mac.grid()).fill(m_mac);
     m_nodes_current = false;
   }
-  apply_boundary_velocities(m_mac, m_boundary);
+  if (m_prescribed) {
+    sample_prescribed(0.0, true);  // the field as it is: the walls do not change it
+    // Every kind is fastest at t = 0 (steady, or LeVeque's cos(πt/T)): the CFL speed of
+    // every step, also of those that start where the deformation stops (t = T/2).
+    m_prescribed_speed = m_mac.max_face_speed();
+  } else {
+    apply_boundary_velocities(m_mac, m_boundary);
+  }
   const Eigen::Vector3i c = m_mac.grid().cells();
   if (m_liquid) {
     spdlog::info(
@@ -244,7 +277,8 @@ void GridFluid::refresh_nodes(sdk::ShellSet shells) {
 }
 
 double GridFluid::stable_dt(double cfl) const {
-  double speed = std::max(m_mac.max_face_speed(), m_shell_speed);
+  double speed =
+      std::max(m_prescribed ? m_prescribed_speed : m_mac.max_face_speed(), m_shell_speed);
   for (const auto& s : m_sources)
     if (s.velocity() && s.active(m_time)) speed = std::max(speed, s.velocity()->norm());
   if (m_liquid)
@@ -256,8 +290,9 @@ double GridFluid::stable_dt(double cfl) const {
         speed = std::max(speed, m_boundary.side(a, side).velocity.norm());
   // A body force f changes u by f Δt: allow for it over one cell (Bridson 2008, §3.1);
   // water falls under gravity from the first step on.
-  const double force =
-      m_liquid ? std::max(m_stats.max_force, m_context.gravity.norm()) : m_stats.max_force;
+  const double force = m_liquid && !m_prescribed
+                           ? std::max(m_stats.max_force, m_context.gravity.norm())
+                           : m_stats.max_force;
   speed += std::sqrt(m_mac.dx() * force);
   return speed > 0.0 ? cfl * m_mac.dx() / speed : kInf;
 }
@@ -282,22 +317,28 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
   m_stats.band_nodes = band ? static_cast<std::int64_t>(band->samples(Location::Node).size()) : 0;
 
-  // 1. §4.2 faces → nodes (already done at the end of the last projection, same shells).
-  if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band);
-  for (int a = 0; a < 3; ++a) m_u_n[a] = m_nodes.velocity(a);
+  if (m_prescribed) {
+    // The field at the middle of the step carries φ and the particles; nothing else moves.
+    sample_prescribed(t + 0.5 * dt, false);
+    m_liquid->advect(m_nodes, dt, geom_n, band);
+  } else {
+    // 1. §4.2 faces → nodes (already done at the end of the last projection, same shells).
+    if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band);
+    for (int a = 0; a < 3; ++a) m_u_n[a] = m_nodes.velocity(a);
 
-  // 2. §4.1 semi-Lagrangian advection with visibility (water: φ along the same rays).
-  m_advector.advect(
-      m_nodes, m_next, dt, geom_n, band,
-      m_liquid ? m_liquid->velocity_nodes(t, dt, speed) : std::span<const std::uint8_t>());
-  if (m_liquid) m_liquid->advect(m_nodes, dt, geom_n, band);
-  std::swap(m_nodes, m_next);
+    // 2. §4.1 semi-Lagrangian advection with visibility (water: φ along the same rays).
+    m_advector.advect(
+        m_nodes, m_next, dt, geom_n, band,
+        m_liquid ? m_liquid->velocity_nodes(t, dt, speed) : std::span<const std::uint8_t>());
+    if (m_liquid) m_liquid->advect(m_nodes, dt, geom_n, band);
+    std::swap(m_nodes, m_next);
 
-  // 3. Water: gravity on the nodes (§4.1), emitters; smoke: sources and body forces.
-  if (m_liquid)
-    advect_water_forces(t, dt);
-  else
-    add_smoke_forces(t, dt, geom_n, band);
+    // 3. Water: gravity on the nodes (§4.1), emitters; smoke: sources and body forces.
+    if (m_liquid)
+      advect_water_forces(t, dt);
+    else
+      add_smoke_forces(t, dt, geom_n, band);
+  }
 
   // 4. The shells move n → n+1: swept nodes invalidated and refilled (§3).
   if (shells) {
@@ -311,6 +352,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
     m_liquid->reinitialize(geom_n, geom_np1, band, t + dt);
   }
 
+  if (m_prescribed) return;  // the faces are sampled at n+1 in project()
   // 5. §4.2 increments back to the persistent faces, with visibility at n+1.
   static const std::array<std::vector<std::uint8_t>, 3> no_faces;
   m_transfer.increments_to_faces(
@@ -333,6 +375,18 @@ void GridFluid::advect_water_forces(double t, double dt) {
   m_stats.max_force = g.norm();
   m_liquid->add_sources(t, m_boundary);
   m_stats.source_nodes = m_liquid->stats().source_nodes;
+}
+
+void GridFluid::sample_prescribed(double t, bool faces) {
+  const grid::UniformGrid& g = m_mac.grid();
+  const std::int64_t n = m_nodes.size();
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d u = m_prescribed->velocity(g.position(Location::Node, i), t);
+    for (int a = 0; a < 3; ++a) m_nodes.velocity(a)[i] = u[a];
+  }
+  if (faces) m_prescribed->fill(m_mac, t);
+  m_nodes_current = true;
 }
 
 void GridFluid::add_smoke_forces(double t, double dt, const ShellGeometry& geom_n,
@@ -388,6 +442,16 @@ void GridFluid::coupling_forces(double dt, sdk::ShellSet shells,
 
 void GridFluid::project(double dt, sdk::ShellSet shells,
                         std::span<const sdk::Positions> effective_velocity) {
+  m_shell_speed = 0.0;
+  for (const auto& v : effective_velocity)
+    if (v.rows() > 0) m_shell_speed = std::max(m_shell_speed, v.rowwise().norm().maxCoeff());
+  if (m_prescribed) {  // nothing to solve: the field at n+1
+    if (!shells.empty()) ensure_geometry(m_geometry_np1, shells);
+    sample_prescribed(m_time + dt, true);
+    std::swap(m_geometry_n, m_geometry_np1);
+    m_time += dt;
+    return;
+  }
   ShellGeometry none;
   const bool have_shells = !shells.empty();
   if (have_shells) {
@@ -406,10 +470,6 @@ void GridFluid::project(double dt, sdk::ShellSet shells,
   m_t_pressure = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // §4.4: velocities across the surface, against the effective velocity of the shells.
   if (m_liquid) m_liquid->extrapolate(m_mac, m_projection, geom, band);
-
-  m_shell_speed = 0.0;
-  for (const auto& v : effective_velocity)
-    if (v.rows() > 0) m_shell_speed = std::max(m_shell_speed, v.rowwise().norm().maxCoeff());
 
   // Nodes for writers and for the next step (§4.2), against the shells' own velocities.
   if (have_shells) m_geometry_np1->set_velocities(velocities_of(shells));
@@ -574,6 +634,9 @@ void GridFluid::report(sdk::Metrics& out) const {
     const double volume = m_liquid->level_set().volume();
     out.set("water_volume", volume);
     out.set("water_volume_change", volume - m_liquid->initial_volume());
+    if (m_prescribed)
+      out.set("water_symmetric_difference",
+              m_liquid->level_set().symmetric_difference(m_initial_phi));
     out.set("liquid_cells", static_cast<double>(p.liquid_cells));
     out.set("pressure_solve_cells", static_cast<double>(p.solve_cells));
     out.set("level_set_invalid_nodes", static_cast<double>(w.invalid_nodes));
@@ -642,6 +705,11 @@ std::vector<sdk::PlanEntry> GridFluid::plan() const {
                        ? "/fluid/water/particles/per_cell > 0: marker particles correct the "
                          "level set (§4.4.2)"
                        : "/fluid/water/particles/per_cell = 0: the level set alone"});
+    out.push_back({"prescribed_velocity", m_prescribed.has_value(),
+                   m_prescribed ? "/fluid/prescribed_velocity given: the water is carried by "
+                                  "an analytic field; no gravity, pressure solve or velocity "
+                                  "extrapolation"
+                                : "no /fluid/prescribed_velocity: the velocity is solved for"});
     out.push_back({"smoke", false,
                    "a water scene: no density, temperature, buoyancy or "
                    "vorticity confinement"});

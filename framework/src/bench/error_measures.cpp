@@ -109,21 +109,59 @@ std::vector<ErrorMeasure> make_registry() {
                bind_fluid_column("max_divergence"), [](const RunOutputs& run, const Json& p) {
                  return max_relative_divergence(run.metrics.column(p["column"]));
                }});
+  // Both water measures need the scene to be water: a typo'd base scene is caught early.
+  const auto bind_water_column = [](const std::string& key) {
+    return [key](Json& params, const Json& scene) {
+      const std::string problem = bind_fluid_column(key)(params, scene);
+      if (problem.empty() && !scene["fluid"].contains("water"))
+        return std::string("the base scene's fluid has no \"water\" block");
+      return problem;
+    };
+  };
   r.push_back({"water_volume_drift",
-               "largest |V(t) − V(0)| / V(0) of the water (<fluid>.water_volume and "
-               "water_volume_change); 0 in a closed tank",
+               "|V(t) − V(0)| / V(0) of the water (<fluid>.water_volume and "
+               "water_volume_change): its largest over steps, or with \"at\": \"end\" at "
+               "the last step (a transport test's loss after its revolution); 0 in a closed "
+               "tank",
                "conserved: the initial volume", "1",
+               Schema::object("")
+                   .field("fluid", fluid_param())
+                   .field("at", Schema::string("max").one_of({"max", "end"}).doc(
+                                    "'max': the largest over steps; 'end': the last step's")),
+               bind_water_column("water_volume"),
+               [](const RunOutputs& run, const Json& p) {
+                 const std::string column = p["column"];
+                 auto volume = run.metrics.column(column);
+                 auto change = run.metrics.column(column + "_change");
+                 if (p["at"] == "end" && !volume.empty()) {
+                   volume = {volume.back()};
+                   change = {change.back()};
+                 }
+                 return water_volume_drift(volume, change);
+               }});
+  r.push_back({"water_shape_error",
+               "the volume where the water at the last step differs from its shape at t = 0 "
+               "(<fluid>.water_symmetric_difference, written with a prescribed_velocity), "
+               "over V(0): for a flow that brings every point back at its end (one "
+               "rigid_rotation, LeVeque's deformation at t = T)",
+               "analytic: the initial shape", "1",
                Schema::object("").field("fluid", fluid_param()),
-               [](Json& params, const Json& scene) {
-                 const std::string problem = bind_fluid_column("water_volume")(params, scene);
-                 if (problem.empty() && !scene["fluid"].contains("water"))
-                   return std::string("the base scene's fluid has no \"water\" block");
+               [bind_water_column](Json& params, const Json& scene) {
+                 std::string problem = bind_water_column("water_symmetric_difference")(params,
+                                                                                      scene);
+                 if (problem.empty() && !scene["fluid"].contains("prescribed_velocity"))
+                   problem = "the base scene's fluid has no \"prescribed_velocity\": the "
+                             "water's shape at the end is then not its shape at the start";
                  return problem;
                },
                [](const RunOutputs& run, const Json& p) {
                  const std::string column = p["column"];
-                 return water_volume_drift(run.metrics.column(column),
-                                           run.metrics.column(column + "_change"));
+                 const std::string fluid = column.substr(0, column.find('.'));
+                 const auto difference = run.metrics.column(column);
+                 const auto volume = run.metrics.column(fluid + ".water_volume");
+                 const auto change = run.metrics.column(fluid + ".water_volume_change");
+                 same_length(volume, change);
+                 return water_shape_error(difference.back(), volume.front() - change.front());
                }});
   r.push_back(
       {"free_fall",
@@ -367,6 +405,11 @@ double water_volume_drift(const std::vector<double>& volume, const std::vector<d
   const double v0 = volume.front() - change.front();
   if (!(v0 > 0.0)) throw MeasureError("the water's initial volume is not positive");
   return max_abs(change) / v0;
+}
+
+double water_shape_error(double symmetric_difference, double initial_volume) {
+  if (!(initial_volume > 0.0)) throw MeasureError("the water's initial volume is not positive");
+  return std::isfinite(symmetric_difference) ? symmetric_difference / initial_volume : kNaN;
 }
 
 double free_fall_error(const std::vector<double>& time, const std::vector<double>& height,

@@ -44,6 +44,13 @@ TEST(ErrorMeasures, WaterVolumeDriftIsRelativeToTheInitialVolume) {
   EXPECT_NEAR(water_volume_drift(volume, change), 0.025, kRoundOff);
 }
 
+TEST(ErrorMeasures, WaterShapeErrorIsRelativeToTheInitialVolume) {
+  // 0.3 m³ where the water differs from its 2 m³ start; NaN for a run that blew up.
+  EXPECT_NEAR(water_shape_error(0.3, 2.0), 0.15, kRoundOff);
+  EXPECT_TRUE(std::isnan(water_shape_error(NAN, 2.0)));
+  EXPECT_THROW(water_shape_error(0.3, 0.0), MeasureError);
+}
+
 TEST(ErrorMeasures, FreeFallOfBackwardEulerIsTheStepOverTheTime) {
   // Backward Euler under gravity alone: v_n = −g n Δt exactly, h_n = h0 − g Δt² n(n+1)/2,
   // so h_n − h(t_n) = −g t_n Δt / 2; at T the error over the drop g T²/2 is Δt / T.

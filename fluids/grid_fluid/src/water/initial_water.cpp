@@ -15,32 +15,41 @@ using grid::Location;
 
 sdk::Schema initial_water_schema() {
   using sdk::Schema;
+  // Every shape can also carve its inside out of the water before it (Zalesak's slot).
+  const auto shape = [](Schema object) {
+    return object.field(
+        "subtract",
+        Schema::boolean(false).doc("true: remove this shape's inside from the water of the "
+                                   "entries before it (φ = max(φ, −d)) instead of adding it"));
+  };
   return Schema::variant("type", "a body of water at the start")
-      .option("pool", Schema::object("water below a height along the up direction (-gravity)")
-                          .field("height", Schema::number().unit("m").doc(
-                                               "level of the surface: x·up = height")))
-      .option("box", Schema::object("an axis-aligned box of water")
-                         .field("min", Schema::vec3().unit("m").doc("corner"))
-                         .field("max", Schema::vec3().unit("m").doc("opposite corner")))
-      .option("sphere",
-              Schema::object("a ball of water")
-                  .field("center", Schema::vec3().unit("m").doc("centre"))
-                  .field("radius", Schema::number().min(0.0, false).unit("m").doc("radius")))
+      .option("pool", shape(Schema::object("water below a height along the up direction (-gravity)")
+                                .field("height", Schema::number().unit("m").doc(
+                                                     "level of the surface: x·up = height"))))
+      .option("box", shape(Schema::object("an axis-aligned box of water")
+                               .field("min", Schema::vec3().unit("m").doc("corner"))
+                               .field("max", Schema::vec3().unit("m").doc("opposite corner"))))
+      .option("sphere", shape(Schema::object("a ball of water")
+                                  .field("center", Schema::vec3().unit("m").doc("centre"))
+                                  .field("radius", Schema::number().min(0.0, false).unit("m").doc(
+                                                       "radius"))))
       .option("cylinder",
-              Schema::object("a solid cylinder of water between two points (water standing in a "
-                             "cup: its radius that of the cup)")
-                  .field("from", Schema::vec3().unit("m").doc("centre of one end"))
-                  .field("to", Schema::vec3().unit("m").doc("centre of the other end"))
-                  .field("radius", Schema::number().min(0.0, false).unit("m").doc("radius")))
-      .option("mesh", Schema::object("the inside of a closed triangle mesh")
-                          .field("mesh", geometry::mesh_schema())
-                          .field("transform", geometry::transform_schema()));
+              shape(Schema::object("a solid cylinder of water between two points (water "
+                                   "standing in a cup: its radius that of the cup)")
+                        .field("from", Schema::vec3().unit("m").doc("centre of one end"))
+                        .field("to", Schema::vec3().unit("m").doc("centre of the other end"))
+                        .field("radius",
+                               Schema::number().min(0.0, false).unit("m").doc("radius"))))
+      .option("mesh", shape(Schema::object("the inside of a closed triangle mesh")
+                                .field("mesh", geometry::mesh_schema())
+                                .field("transform", geometry::transform_schema())));
 }
 
 namespace {
 
-/// φ = min(φ, signed distance of the closed mesh) on the nodes of its box grown by band.
-void fill_mesh(const geometry::SurfaceMesh& surface, LevelSet& level_set) {
+/// φ = min(φ, d), or max(φ, −d) with `subtract`, for d the signed distance of the closed
+/// mesh, on the nodes of its box grown by band (beyond it d ≥ band changes nothing).
+void fill_mesh(const geometry::SurfaceMesh& surface, bool subtract, LevelSet& level_set) {
   const grid::UniformGrid& grid = level_set.grid();
   const double band = level_set.band();
   const geometry::TriangleMesh mesh(surface.positions, surface.triangles);
@@ -85,7 +94,7 @@ void fill_mesh(const geometry::SurfaceMesh& surface, LevelSet& level_set) {
           const auto closest = bvh.closest_point(p, band);
           const double d = closest.triangle >= 0 ? std::sqrt(closest.distance2) : band;
           double& v = phi[grid.index(Location::Node, i, j, k)];
-          v = std::min(v, inside ? -d : d);
+          v = subtract ? std::max(v, inside ? d : -d) : std::min(v, inside ? -d : d);
         }
       }
   }
@@ -102,6 +111,7 @@ void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up
     const auto& spec = entries[e];
     const std::string path = json_path + "/" + std::to_string(e);
     const std::string type = spec.at("type").get<std::string>();
+    const bool subtract = spec.at("subtract").get<bool>();
     std::function<double(const Eigen::Vector3d&)> distance;
     if (type == "pool") {
       const double height = spec.at("height").get<double>();
@@ -132,12 +142,18 @@ void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up
           geometry::transform_from_json(spec.value("transform", nlohmann::json::object()),
                                         path + "/transform"),
           surface);
-      fill_mesh(surface, level_set);
+      fill_mesh(surface, subtract, level_set);
       continue;
     }
+    if (subtract) {
 #pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < count; ++i)
-      phi[i] = std::min(phi[i], distance(grid.position(Location::Node, i)));
+      for (std::int64_t i = 0; i < count; ++i)
+        phi[i] = std::max(phi[i], -distance(grid.position(Location::Node, i)));
+    } else {
+#pragma omp parallel for schedule(static)
+      for (std::int64_t i = 0; i < count; ++i)
+        phi[i] = std::min(phi[i], distance(grid.position(Location::Node, i)));
+    }
   }
   const double band = level_set.band();
 #pragma omp parallel for schedule(static)

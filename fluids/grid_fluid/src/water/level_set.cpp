@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/mac/ordered_sum.hpp"
@@ -77,22 +78,44 @@ void LevelSet::cell_values(std::vector<double>& out, const std::array<bool, 6>& 
     }
 }
 
-double LevelSet::volume() const {
+namespace {
+
+/// H(−φ): the smeared Heaviside of width eps (Osher and Fedkiw 2002, eq. 7.1), 1 in water.
+double water_fraction(double phi, double eps) {
+  if (phi >= eps) return 0.0;
+  if (phi <= -eps) return 1.0;
+  const double x = -phi;
+  return 0.5 + x / (2.0 * eps) + std::sin(std::numbers::pi * x / eps) / (2.0 * std::numbers::pi);
+}
+
+}  // namespace
+
+double LevelSet::node_weight(std::int64_t node) const {
   const Eigen::Vector3i n = m_grid.counts(Location::Node);
+  const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, node);
+  double w = 1.0;
+  for (int a = 0; a < 3; ++a)
+    if (ijk[a] == 0 || ijk[a] == n[a] - 1) w *= 0.5;
+  return w;
+}
+
+double LevelSet::volume() const {
   const double eps = 1.5 * m_grid.dx();
   const double sum = ordered_sum(static_cast<std::int64_t>(m_phi.size()), [&](std::int64_t node) {
-    const double phi = m_phi[node];
-    if (phi >= eps) return 0.0;
-    double h = 1.0;  // H(−φ)
-    if (phi > -eps) {
-      const double x = -phi;
-      h = 0.5 + x / (2.0 * eps) + std::sin(std::numbers::pi * x / eps) / (2.0 * std::numbers::pi);
-    }
-    const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, node);
-    double w = 1.0;  // trapezoidal at the walls
-    for (int a = 0; a < 3; ++a)
-      if (ijk[a] == 0 || ijk[a] == n[a] - 1) w *= 0.5;
-    return w * h;
+    const double h = water_fraction(m_phi[node], eps);
+    return h > 0.0 ? node_weight(node) * h : 0.0;
+  });
+  const double dx = m_grid.dx();
+  return sum * dx * dx * dx;
+}
+
+double LevelSet::symmetric_difference(const std::vector<double>& other) const {
+  if (other.size() != m_phi.size())
+    throw std::invalid_argument("LevelSet::symmetric_difference: another grid's φ");
+  const double eps = 1.5 * m_grid.dx();
+  const double sum = ordered_sum(static_cast<std::int64_t>(m_phi.size()), [&](std::int64_t node) {
+    const double d = std::abs(water_fraction(m_phi[node], eps) - water_fraction(other[node], eps));
+    return d > 0.0 ? node_weight(node) * d : 0.0;
   });
   const double dx = m_grid.dx();
   return sum * dx * dx * dx;

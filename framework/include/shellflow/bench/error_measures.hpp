@@ -35,6 +35,8 @@ double max_relative_divergence(const std::vector<double>& divergence);
 /// of the first row (grid_fluid's water_volume and water_volume_change). Known answer: 0
 /// (incompressible water in a closed tank keeps its volume).
 double water_volume_drift(const std::vector<double>& volume, const std::vector<double>& change);
+/// The symmetric difference of the last and first water over the first water's volume.
+double water_shape_error(double symmetric_difference, double initial_volume);
 
 /// Free fall against the parabola h(t) = h0 + v0 t − g t² / 2: max over steps of
 /// |h − h(t)| divided by the drop g T² / 2 at the last time T.

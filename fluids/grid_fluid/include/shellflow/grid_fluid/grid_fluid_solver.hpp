@@ -25,6 +25,10 @@
 //     per enclosed region, PCG/MIC(0) or CHOLMOD per region (§4.3); water: air cells
 //     Dirichlet with the ghost fluid method, then velocities extrapolated across the
 //     surface (§4.4); then faces → nodes.
+// With a "prescribed_velocity" (water only) the velocity is not solved for: faces and
+// nodes are sampled from the analytic field, the nodes at the middle of each step, and φ
+// and the particles are carried by it (steps 1, 3, 5 and the projection are skipped): the
+// transport tests of the level-set literature (Zalesak's sphere, LeVeque's deformation).
 
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -122,6 +126,9 @@ class GridFluid final : public sdk::FluidSolver {
   void advect_water_forces(double t, double dt);
   void add_smoke_forces(double t, double dt, const ShellGeometry& geom_n,
                         const geometry::ShellBand* band);
+  /// The prescribed field at time t on the nodes (exact samples) and, with `faces`, on
+  /// the faces.
+  void sample_prescribed(double t, bool faces);
 
   sdk::Context m_context;
   DomainBoundary m_boundary;
@@ -147,6 +154,9 @@ class GridFluid final : public sdk::FluidSolver {
   PressureProjection m_projection;
   std::unique_ptr<CouplingPressure> m_coupling;  ///< made on the first two-way step
   std::unique_ptr<Liquid> m_liquid;              ///< water scenes only
+  std::optional<AnalyticVelocity> m_prescribed;  ///< "prescribed_velocity": no solve
+  std::vector<double> m_initial_phi;             ///< φ at t = 0, with a prescribed velocity
+  double m_prescribed_speed = 0.0;               ///< its largest face speed at any time
   FluidProbes m_probes;                          ///< figures for metrics.csv ("probes")
   double m_t_pressure = 0.0;                     ///< wall time of the last projection [s]
   geometry::ShellBand m_band;

@@ -39,10 +39,18 @@ class LevelSet {
   /// 1.5Δx (Osher and Fedkiw 2002, eq. 7.1), nodes on the domain's faces weighted by 1/2
   /// per face (trapezoidal rule), so a flat pool of depth h gives h × area to round-off.
   double volume() const;
+  /// The volume where this water and `other` (φ of the same grid) differ [m^3]:
+  /// Σ |H(−φ) − H(−φ_other)| Δx^3 with volume()'s Heaviside and weights. A shape
+  /// error that a change of volume alone can hide (Enright et al. 2002, §5.3's area loss
+  /// counts water lost and gained alike).
+  double symmetric_difference(const std::vector<double>& other) const;
   /// Nodes with φ <= 0.
   std::int64_t liquid_nodes() const;
 
  private:
+  /// The trapezoidal rule's weight of a node: 1/2 per face of the domain it lies on.
+  double node_weight(std::int64_t node) const;
+
   grid::UniformGrid m_grid;
   double m_band = 0.0;
   std::vector<double> m_phi;
