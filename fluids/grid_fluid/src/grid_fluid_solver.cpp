@@ -72,11 +72,13 @@ sdk::Schema GridFluid::schema() {
                                    .doc("upper corner (moved to fit cubic cells if needed)")))
       .field("resolution", Schema::integer(32).min(2).max(1024).doc(
                                "cells along the longest side of the domain; Δx follows"))
-      .field("density", Schema::number(1.0)
+      .field("density", Schema::number()
                             .min(0.0, false)
                             .unit("kg/m^3")
+                            .optional()
                             .doc("fluid density ρ: sets the fluid's inertia against two-way shells "
-                                 "(§5.1; PhysBAM smoke: 1; air at 20 °C: 1.2)"))
+                                 "and the water's pressure on them (§5.1). Default: 1 for smoke "
+                                 "(PhysBAM's; air at 20 °C: 1.2), 1000 with a \"water\" block"))
       .field("boundary", DomainBoundary::schema())
       .field("epsilon", Schema::number(1e-3)
                             .min(1e-9, false)
@@ -162,7 +164,10 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
       m_band(m_mac.grid()) {
   if (params.contains("boundary")) m_boundary = DomainBoundary(params.at("boundary"), "/boundary");
   m_epsilon = params.at("epsilon").get<double>() * m_mac.dx();
-  m_density = params.at("density").get<double>();
+  const bool water = params.contains("water") && !params.at("water").is_null();
+  m_density = params.contains("density") && !params.at("density").is_null()
+                  ? params.at("density").get<double>()
+                  : (water ? 1000.0 : 1.0);
   m_coupling_tolerance = params.at("pressure").at("coupling_tolerance").get<double>();
   const auto& smoke = params.at("smoke");
   m_buoyancy.ambient_temperature = smoke.at("ambient_temperature").get<double>();
@@ -423,21 +428,22 @@ void GridFluid::coupling_forces(double dt, sdk::ShellSet shells,
   bool two_way = false;
   for (const auto& s : shells) two_way = two_way || s.receives_fluid_forces;
   if (!m_logged_coupling) {
-    if (m_liquid && two_way)
-      spdlog::warn(
-          "grid_fluid: water pushes no shell yet (the §5.1 coupling pressure with a "
-          "free surface comes with two-way water): two-way shells move as boundaries only");
+    if (two_way)
+      spdlog::info("grid_fluid: two-way coupling (§5.1 coupling pressure every step{})",
+                   m_liquid ? ", over the water's cells" : "");
     else
-      spdlog::info(two_way ? "grid_fluid: two-way coupling (§5.1 coupling pressure every step)"
-                           : "grid_fluid: one-way coupling (no shell receives fluid forces)");
+      spdlog::info("grid_fluid: one-way coupling (no shell receives fluid forces)");
     m_logged_coupling = true;
   }
-  if (!two_way || m_liquid) return;  // skip what the scene does not need: no second solve
+  // Skip what the scene does not need: no second solve (a prescribed flow pushes nothing).
+  if (!two_way || m_prescribed) return;
   // Same positions as advect's n+1 shells: its band (margin >= 2Δx) still covers them.
   if (ensure_geometry(m_geometry_np1, shells) || !m_band_used)
     build_band(shells, shells, 2.0 * m_mac.dx());
+  // Water: the surface the projection will see (same shells), air cells at p = 0.
+  const FreeSurface* surface = m_liquid ? &m_liquid->surface(*m_geometry_np1, &m_band) : nullptr;
   m_stats.coupling = coupling_pressure().compute(m_mac, dt, m_boundary, *m_geometry_np1, m_band,
-                                                 shells, triangle_forces);
+                                                 shells, triangle_forces, surface);
 }
 
 void GridFluid::project(double dt, sdk::ShellSet shells,

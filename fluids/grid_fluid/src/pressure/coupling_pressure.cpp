@@ -61,7 +61,7 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary, const Shel
         }
         beta = m_settings.fluid_density * dx / sigma;  // ρ / ρ_face with ρ_face = σ Δx²/Δx³
       }
-      found[omp_get_thread_num()].push_back({a, f, velocity, beta});
+      found[omp_get_thread_num()].push_back({a, f, velocity, beta, hit->s});
     }
     if (bad_density)
       throw Error(
@@ -104,9 +104,11 @@ Eigen::VectorXd CouplingPressure::right_hand_side(const MacGrid& mac) const {
 void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
                              CouplingStats& stats) {
   // One-way shells and sources close interior faces here (two-way shell faces stay open).
-  label_fluid_regions(m_grid, m_closed, boundary, m_regions,
-                      stats.kinematic_faces > 0 || boundary.has_source_faces());
-  const std::int64_t cells = m_grid.size(Location::Cell);
+  label_fluid_regions(
+      m_grid, m_closed, boundary, m_regions,
+      stats.kinematic_faces > 0 || boundary.has_source_faces() || m_surface != nullptr,
+      m_surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
+                           : std::span<const std::uint8_t>());
   for (int r = 0; r < m_regions.count(); ++r) {
     if (m_regions.enclosed[r] == 0) continue;
     double mean = 0.0;
@@ -129,8 +131,13 @@ void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
   }
   for (const ShellFace& sf : m_shell_faces)
     if (sf.beta > 0.0) m_laplacian.weights(sf.axis)[sf.face] = sf.beta;
+  if (m_surface != nullptr) add_free_surface(b);
 
+  const std::int64_t cells = m_grid.size(Location::Cell);
   Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(m_scaled.data(), cells);
+  if (m_surface != nullptr)
+    for (std::int64_t c = 0; c < cells; ++c)
+      if (air(c)) x[c] = 0.0;  // an empty row keeps its guess: p = 0 in the air
   m_multigrid.compute(m_laplacian);
   const auto result = linear::preconditioned_cg(m_laplacian, m_multigrid, b, x,
                                                 m_settings.tolerance, m_settings.max_iterations,
@@ -139,6 +146,76 @@ void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
   stats.relative_residual = result.relative_residual;
   stats.converged = result.converged;
   std::copy(x.data(), x.data() + cells, m_scaled.begin());
+}
+
+void CouplingPressure::add_free_surface(Eigen::VectorXd& b) {
+  const std::int64_t cells = m_grid.size(Location::Cell);
+  const Eigen::Vector3i n = m_grid.cells();
+  auto& across_shell = m_two_way_face;  // θ = 1 across these
+  for (int a = 0; a < 3; ++a) across_shell[a].assign(m_laplacian.weights(a).size(), 0);
+  for (const ShellFace& sf : m_shell_faces)
+    if (sf.beta > 0.0) across_shell[sf.axis][sf.face] = 1;
+  auto& dirichlet = m_laplacian.dirichlet();
+  dirichlet.assign(cells, 0.0);
+  // A liquid cell's open face to an air cell becomes its Dirichlet conductance.
+#pragma omp parallel for schedule(static)
+  for (std::int64_t cell = 0; cell < cells; ++cell) {
+    if (air(cell)) {
+      b[cell] = 0.0;
+      continue;
+    }
+    const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
+    for (int a = 0; a < 3; ++a)
+      for (int side = 0; side < 2; ++side) {
+        Eigen::Vector3i nb = c;
+        nb[a] += side == 0 ? -1 : 1;
+        if (nb[a] < 0 || nb[a] >= n[a]) continue;
+        const std::int64_t other = m_grid.index(Location::Cell, nb);
+        if (!air(other)) continue;
+        Eigen::Vector3i f = c;
+        f[a] += side;
+        const std::int64_t face = m_grid.index(face_location(a), f);
+        const double w = m_laplacian.weights(a)[face];
+        if (w == 0.0) continue;
+        dirichlet[cell] +=
+            across_shell[a][face] != 0 ? w : w * free_surface_inverse_theta(*m_surface, cell, other);
+      }
+  }
+  // Faces touching air leave the operator (after the conductances read their weights).
+  for (int a = 0; a < 3; ++a) {
+    auto& w = m_laplacian.weights(a);
+    const Eigen::Vector3i faces = m_grid.counts(face_location(a));
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int k = 0; k < faces.z(); ++k)
+      for (int j = 0; j < faces.y(); ++j)
+        for (int i = 0; i < faces.x(); ++i) {
+          Eigen::Vector3i c(i, j, k);
+          const std::int64_t face = m_grid.index(face_location(a), c);
+          if (w[face] == 0.0) continue;
+          const bool plus_air = c[a] < n[a] && air(m_grid.index(Location::Cell, c));
+          c[a] -= 1;
+          const bool minus_air = c[a] >= 0 && air(m_grid.index(Location::Cell, c));
+          if (plus_air || minus_air) w[face] = 0.0;
+        }
+  }
+}
+
+double CouplingPressure::pressure_at_shell(std::int64_t cell, int axis, int step,
+                                          double reach) const {
+  if (air(cell)) return 0.0;
+  const double q = m_scaled[cell];
+  Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
+  Eigen::Vector3i f = c;  // the face between the cell and its neighbour away from the shell
+  if (step > 0) f[axis] += 1;
+  c[axis] += step;
+  if (c[axis] < 0 || c[axis] >= m_grid.cells()[axis]) return q;
+  const std::int64_t face = m_grid.index(face_location(axis), f);
+  if (m_closed[axis][face] != 0 || m_two_way_face[axis][face] != 0) return q;  // no slope
+  const std::int64_t neighbour = m_grid.index(Location::Cell, c);
+  // Air: p = 0 at the ghost point θΔx away (the projection's free surface).
+  const double slope = air(neighbour) ? q * free_surface_inverse_theta(*m_surface, cell, neighbour)
+                                      : q - m_scaled[neighbour];
+  return q + reach * slope;
 }
 
 void CouplingPressure::jumps_to_nodes(double to_pressure, CouplingStats& stats) {
@@ -162,9 +239,13 @@ void CouplingPressure::jumps_to_nodes(double to_pressure, CouplingStats& stats) 
     const Eigen::Vector3i ijk = m_grid.coordinates(face_location(a), sf.face);
     Eigen::Vector3i lo = ijk;
     lo[a] -= 1;
-    const double jump =
-        (m_scaled[m_grid.index(Location::Cell, ijk)] - m_scaled[m_grid.index(Location::Cell, lo)]) *
-        to_pressure;
+    const std::int64_t plus = m_grid.index(Location::Cell, ijk);
+    const std::int64_t minus = m_grid.index(Location::Cell, lo);
+    const double jump = (m_surface == nullptr
+                             ? m_scaled[plus] - m_scaled[minus]
+                             : pressure_at_shell(plus, a, 1, 1.0 - sf.s) -
+                                   pressure_at_shell(minus, a, -1, sf.s)) *
+                        to_pressure;
     stats.max_pressure_jump = std::max(stats.max_pressure_jump, std::abs(jump));
     const int b = (a + 1) % 3;
     const int c = (a + 2) % 3;
@@ -296,15 +377,26 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
 CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
                                         const DomainBoundary& boundary, const ShellGeometry& shells,
                                         const geometry::ShellBand& band, sdk::ShellSet set,
-                                        std::span<sdk::TriangleVectors> forces) {
+                                        std::span<sdk::TriangleVectors> forces,
+                                        const FreeSurface* surface) {
   CouplingStats stats;
   if (forces.size() != set.size())
     throw Error("CouplingPressure: one force matrix per shell expected");
+  m_surface = surface;
+  if (surface != nullptr) {
+    const std::int64_t cells = m_grid.size(Location::Cell);
+    m_liquid.resize(cells);
+#pragma omp parallel for schedule(static)
+    for (std::int64_t c = 0; c < cells; ++c) m_liquid[c] = surface->cell_phi[c] <= 0.0 ? 1 : 0;
+  } else {
+    m_laplacian.dirichlet().clear();
+  }
   classify_faces(boundary, shells, band, stats);
   Eigen::VectorXd b = right_hand_side(mac);
   solve(b, boundary, stats);
   jumps_to_nodes(m_settings.fluid_density * m_grid.dx() / dt, stats);
   forces_on_triangles(set, forces, stats);
+  m_surface = nullptr;
   return stats;
 }
 

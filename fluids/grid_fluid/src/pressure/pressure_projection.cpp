@@ -111,12 +111,17 @@ void PressureProjection::correct_compatibility(MacGrid& mac, ProjectionStats& st
   }
 }
 
-double PressureProjection::inverse_theta(std::int64_t liquid, std::int64_t air) const {
-  if (!m_surface->ghost_fluid) return 1.0;
-  const double phi_l = m_surface->cell_phi[liquid];
-  const double phi_a = m_surface->cell_phi[air];
+double free_surface_inverse_theta(const FreeSurface& surface, std::int64_t liquid,
+                                  std::int64_t air) {
+  if (!surface.ghost_fluid) return 1.0;
+  const double phi_l = surface.cell_phi[liquid];
+  const double phi_a = surface.cell_phi[air];
   const double theta = phi_l / (phi_l - phi_a);  // in [0, 1]: φ_l <= 0 < φ_a
   return 1.0 / std::clamp(theta, FreeSurface::kMinTheta, 1.0);
+}
+
+double PressureProjection::inverse_theta(std::int64_t liquid, std::int64_t air) const {
+  return free_surface_inverse_theta(*m_surface, liquid, air);
 }
 
 void PressureProjection::find_solve_box() {

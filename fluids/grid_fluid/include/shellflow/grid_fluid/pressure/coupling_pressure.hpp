@@ -24,6 +24,18 @@
 //     |n|₁ makes the force independent of the sheet's orientation to the grid and equal
 //     to the paper's for grid-aligned sheets.
 // The fluid's velocities are not changed: eq. (5) only measures the force (§5.1).
+//
+// With water (a FreeSurface, as the projection sees it) only the liquid cells are
+// unknowns: air cells hold p = 0, a liquid cell's face to an air cell is a Dirichlet
+// conductance (its weight, 1 or β, times 1/θ of the ghost fluid rule; θ = 1 across a
+// shell, where φ of the far side says nothing of this side's surface), and a liquid
+// region with no face to air is enclosed. A shell face with air on both sides has no
+// jump: shells and the parts of shells in air feel no pressure (§5.1 with a free surface),
+// and a partly submerged shell feels the jump only below the water. Water has a
+// hydrostatic gradient ρg, so the jump is taken at the shell, not between the cell
+// centres: each side's pressure is extrapolated to where the shell cuts the segment with
+// its one-sided slope (else a submerged sheet would feel the buoyancy of a Δx-thick slab
+// and a hull ρ g s too much, s its distance to the cell centre below: a draft off by s).
 
 #include <array>
 #include <cstdint>
@@ -35,6 +47,7 @@
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
 #include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
+#include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
 #include "shellflow/linear/grid_laplacian.hpp"
 #include "shellflow/linear/multigrid_preconditioner.hpp"
 #include "shellflow/sdk/shell_surface.hpp"
@@ -70,9 +83,11 @@ class CouplingPressure {
   /// `shells` was built from, same order) from u* in `mac`, which is left unchanged.
   /// `forces[s]` must hold set[s].triangle_count() rows; rows of one-way shells are
   /// left as they are. `band` labels the faces near the shells (rays only there).
+  /// `surface`: the liquid of a water scene (null: smoke, every cell is fluid).
   CouplingStats compute(const MacGrid& mac, double dt, const DomainBoundary& boundary,
                         const ShellGeometry& shells, const geometry::ShellBand& band,
-                        sdk::ShellSet set, std::span<sdk::TriangleVectors> forces);
+                        sdk::ShellSet set, std::span<sdk::TriangleVectors> forces,
+                        const FreeSurface* surface = nullptr);
 
   /// q = p Δt/(ρ Δx) of the last solve (the next initial guess; saved with the fluid).
   std::vector<double>& scaled_pressure() { return m_scaled; }
@@ -85,12 +100,21 @@ class CouplingPressure {
     std::int64_t face;
     double velocity;
     double beta;
+    double s;  ///< where the shell cuts the segment between the cell centres, 0 at the − cell
   };
   void classify_faces(const DomainBoundary& boundary, const ShellGeometry& shells,
                       const geometry::ShellBand& band, CouplingStats& stats);
   Eigen::VectorXd right_hand_side(const MacGrid& mac) const;
   void solve(Eigen::VectorXd& b, const DomainBoundary& boundary, CouplingStats& stats);
+  /// Water: faces touching air leave the Laplacian, the liquid cell's side becomes a
+  /// Dirichlet conductance (weight × 1/θ), and the air rows are emptied (b = 0, q = 0).
+  void add_free_surface(Eigen::VectorXd& b);
+  bool air(std::int64_t cell) const { return m_surface != nullptr && m_liquid[cell] == 0; }
   void jumps_to_nodes(double to_pressure, CouplingStats& stats);
+  /// Water: q of `cell` extrapolated by `reach` cells (its distance to the shell) away from
+  /// its neighbour `cell − step·e_axis`, with the one-sided slope through that neighbour
+  /// (0 at the free surface's ghost point for air; no slope across a wall or shell).
+  double pressure_at_shell(std::int64_t cell, int axis, int step, double reach) const;
   void forces_on_triangles(sdk::ShellSet set, std::span<sdk::TriangleVectors> forces,
                            CouplingStats& stats);
 
@@ -98,6 +122,9 @@ class CouplingPressure {
   CouplingSettings m_settings;
   std::array<std::vector<std::uint8_t>, 3> m_closed;  ///< Neumann faces
   std::vector<ShellFace> m_shell_faces;
+  const FreeSurface* m_surface = nullptr;  ///< during compute() of a water scene
+  std::vector<std::uint8_t> m_liquid;      ///< per cell, water scenes only
+  std::array<std::vector<std::uint8_t>, 3> m_two_way_face;  ///< water: faces of m_shell_faces
   FluidRegions m_regions;
   linear::GridLaplacian m_laplacian;            ///< face weights β
   linear::MultigridPreconditioner m_multigrid;  ///< McAdams et al. 2010 V-cycle

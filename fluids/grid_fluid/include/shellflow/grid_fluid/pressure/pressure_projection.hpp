@@ -72,6 +72,11 @@ struct FreeSurface {
   static constexpr double kMinTheta = 1e-3;
 };
 
+/// 1/θ of the face between liquid cell `liquid` and air cell `air`: θ = φ_l / (φ_l − φ_a)
+/// clamped to [kMinTheta, 1] (ghost fluid), or 1 (first order).
+double free_surface_inverse_theta(const FreeSurface& surface, std::int64_t liquid,
+                                  std::int64_t air);
+
 struct ProjectionStats {
   int regions = 0;                 ///< connected fluid regions
   int enclosed_regions = 0;        ///< regions without a Dirichlet face (compatibility corrected)
