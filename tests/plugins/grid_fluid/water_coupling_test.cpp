@@ -166,5 +166,35 @@ TEST(WaterCoupling, FloodedBoxFeelsNoNetPressure) {
   EXPECT_LE(f.norm(), 0.1 * slab);
 }
 
+// Disabled: fails today (the box sinks almost in free fall, lift 43 N of its 235 N weight on
+// the first step). The paper's per-face density σ/Δx lets each wall yield to the water
+// alone, draining the hull in the solve; moving the rigid body as one in the coupling solve
+// is the fix (README, known limits). Run with --gtest_also_run_disabled_tests (100 s).
+TEST(WaterCoupling, DISABLED_FreeBoxFloatsAtTheDraftItsMassImplies) {
+  // Archimedes with nothing but the §5.1 pressure: an open box of mass M floats where the
+  // water it keeps out weighs M, draft d = M/(ρ a²). Released a cell higher, it heaves
+  // about that draft, the waves it makes carrying the motion away.
+  const double draft = 0.15;
+  const double area = kSide * kSide + 4.0 * kSide * kWall;
+  const double sigma = kRho * kSide * kSide * draft / area;  // 37.5 kg/m²: β = 0.83
+  const double bottom = kPool - draft + kDx;
+  auto fluid = test::make_fluid(tank(bottom));
+  HeavingShell box(make_box(bottom, sigma), /*held=*/false);
+  coupling::CouplingLoop loop(fluid.get(), {&box}, {0.5, 0.01});
+  loop.start(0.0, kForever);
+  double sum = 0.0, time = 0.0;  // ∫ offset dt over the last second
+  while (loop.time() < 3.0) {
+    const double dt = loop.next_dt(kForever);
+    loop.step(dt, kForever);
+    if (loop.time() > 2.0) {
+      sum += (box.offset() + kDx) * dt;
+      time += dt;
+    }
+  }
+  // The bounds: the draft within Δx/4, at rest to 1 % of √(gΔx).
+  EXPECT_NEAR(sum / time, 0.0, 0.25 * kDx) << "mean offset from the Archimedes draft";
+  EXPECT_LE(std::abs(box.velocity()), 0.01 * std::sqrt(kG * kDx));
+}
+
 }  // namespace
 }  // namespace shellflow::grid_fluid
