@@ -135,9 +135,6 @@ void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
 
   const std::int64_t cells = m_grid.size(Location::Cell);
   Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(m_scaled.data(), cells);
-  if (m_surface != nullptr)
-    for (std::int64_t c = 0; c < cells; ++c)
-      if (air(c)) x[c] = 0.0;  // an empty row keeps its guess: p = 0 in the air
   m_multigrid.compute(m_laplacian);
   const auto result = linear::preconditioned_cg(m_laplacian, m_multigrid, b, x,
                                                 m_settings.tolerance, m_settings.max_iterations,
@@ -162,6 +159,7 @@ void CouplingPressure::add_free_surface(Eigen::VectorXd& b) {
   for (std::int64_t cell = 0; cell < cells; ++cell) {
     if (air(cell)) {
       b[cell] = 0.0;
+      m_scaled[cell] = 0.0;  // the guess: an empty row keeps it, so p = 0 in the air
       continue;
     }
     const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);

@@ -107,7 +107,7 @@ class CouplingPressure {
   Eigen::VectorXd right_hand_side(const MacGrid& mac) const;
   void solve(Eigen::VectorXd& b, const DomainBoundary& boundary, CouplingStats& stats);
   /// Water: faces touching air leave the Laplacian, the liquid cell's side becomes a
-  /// Dirichlet conductance (weight × 1/θ), and the air rows are emptied (b = 0, q = 0).
+  /// Dirichlet conductance (weight × 1/θ), and the air rows are emptied (b = 0, guess q = 0).
   void add_free_surface(Eigen::VectorXd& b);
   bool air(std::int64_t cell) const { return m_surface != nullptr && m_liquid[cell] == 0; }
   void jumps_to_nodes(double to_pressure, CouplingStats& stats);
