@@ -1,6 +1,7 @@
 #pragma once
 // Helpers shared by the grid_fluid tests: a validated GridFluid from a JSON snippet, the
-// water surface height on a node line, and shells built in the test (a flat plate).
+// water surface height on a node line, shells built in the test (a flat plate) and a
+// rigid shell that only translates along one axis (the smallest two-way solid).
 
 #include <nlohmann/json.hpp>
 
@@ -8,6 +9,7 @@
 #include "shellflow/grid_fluid/grid_fluid_solver.hpp"
 #include "shellflow/grid_fluid/water/liquid.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
+#include "shellflow/sdk/solid_solver.hpp"
 
 namespace shellflow::grid_fluid::test {
 
@@ -45,6 +47,67 @@ inline sdk::ShellSurface make_plate(const Eigen::Vector3d& center, const Eigen::
   s.surface_density = Eigen::VectorXd::Ones(mesh.triangles.rows());
   return s;
 }
+
+/// A rigid shell that only translates along `axis`: M dv/dt = Σ F_axis + M g (symplectic
+/// Euler), M = Σ σ A over its triangles, g the gravity along the axis. A held shell
+/// receives the forces and records them (a force gauge) but does not move.
+class TranslatingShell final : public sdk::SolidSolver {
+ public:
+  TranslatingShell(sdk::ShellSurface surface, int axis, double gravity, bool held)
+      : m_surface(std::move(surface)), m_axis(axis), m_gravity(gravity), m_held(held) {
+    m_surface.receives_fluid_forces = true;
+    m_rest = m_surface.positions;
+    const auto& T = *m_surface.triangles;
+    for (int t = 0; t < m_surface.triangle_count(); ++t) {
+      const Eigen::Vector3d a = m_rest.row(T(t, 0)), b = m_rest.row(T(t, 1)),
+                            c = m_rest.row(T(t, 2));
+      m_mass += m_surface.surface_density[t] * 0.5 * (b - a).cross(c - a).norm();
+    }
+  }
+  std::span<const sdk::ShellSurface> surfaces() const override { return {&m_surface, 1}; }
+  void advance(double, double dt, std::span<const sdk::TriangleVectors> forces) override {
+    m_force = forces.empty() || forces[0].rows() == 0
+                  ? Eigen::Vector3d::Zero()
+                  : Eigen::Vector3d(forces[0].colwise().sum().transpose());
+    if (!m_held) {
+      m_velocity += dt * (m_force[m_axis] / m_mass + m_gravity);
+      m_offset += dt * m_velocity;
+    }
+    m_surface.positions = m_rest;
+    m_surface.positions.col(m_axis).array() += m_offset;
+    m_surface.velocities.setZero();
+    m_surface.velocities.col(m_axis).setConstant(m_velocity);
+  }
+  void save(sdk::StateWriter& out) const override {
+    out.write(m_velocity);
+    out.write(m_offset);
+  }
+  void restore(sdk::StateReader& in) override {
+    m_velocity = in.read<double>();
+    m_offset = in.read<double>();
+    advance(0.0, 0.0, {});
+  }
+  void set_velocity(double v) {
+    m_velocity = v;
+    advance(0.0, 0.0, {});
+  }
+  double mass() const { return m_mass; }
+  double offset() const { return m_offset; }
+  double velocity() const { return m_velocity; }
+  /// Σ of the triangle forces of the last advance() [N].
+  const Eigen::Vector3d& force() const { return m_force; }
+
+ private:
+  sdk::ShellSurface m_surface;
+  sdk::Positions m_rest;
+  int m_axis;
+  double m_gravity;
+  bool m_held;
+  double m_mass = 0.0;
+  double m_velocity = 0.0;
+  double m_offset = 0.0;
+  Eigen::Vector3d m_force = Eigen::Vector3d::Zero();
+};
 
 /// Height of a water scene's surface on the vertical node line through (x, z): where φ
 /// first crosses 0 going up, by linear interpolation between the nodes; −1 if it never does.

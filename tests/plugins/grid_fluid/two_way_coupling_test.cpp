@@ -15,59 +15,14 @@ namespace {
 
 constexpr double kForever = 1e9;  // no frame end inside these runs
 
-/// A flat plate, normal +x, that only translates along x: M dv/dt = Σ F_x (symplectic
-/// Euler). A fixed plate receives the forces but does not move.
-class SlidingPlate final : public sdk::SolidSolver {
- public:
-  SlidingPlate(const Eigen::Vector3d& center, double size, double sigma, bool fixed)
-      : m_fixed(fixed) {
-    m_surface = test::make_plate(center, Eigen::Vector3d::UnitX(), size, 7);
-    m_surface.surface_density.setConstant(sigma);
-    m_surface.receives_fluid_forces = true;
-    m_rest = m_surface.positions;
-    m_mass = sigma * size * size;
-  }
-  std::span<const sdk::ShellSurface> surfaces() const override { return {&m_surface, 1}; }
-  void advance(double, double dt, std::span<const sdk::TriangleVectors> forces) override {
-    m_force = forces.empty() || forces[0].rows() == 0
-                  ? Eigen::Vector3d::Zero()
-                  : Eigen::Vector3d(forces[0].colwise().sum().transpose());
-    if (!m_fixed) {
-      m_velocity += dt * m_force.x() / m_mass;
-      m_offset += dt * m_velocity;
-    }
-    m_surface.positions = m_rest;
-    m_surface.positions.col(0).array() += m_offset;
-    m_surface.velocities.setZero();
-    m_surface.velocities.col(0).setConstant(m_velocity);
-  }
-  void save(sdk::StateWriter& out) const override {
-    out.write(m_velocity);
-    out.write(m_offset);
-  }
-  void restore(sdk::StateReader& in) override {
-    m_velocity = in.read<double>();
-    m_offset = in.read<double>();
-    advance(0.0, 0.0, {});
-  }
-  void set_velocity(double v) {
-    m_velocity = v;
-    advance(0.0, 0.0, {});
-  }
-  double velocity() const { return m_velocity; }
-  double mass() const { return m_mass; }
-  /// Σ of the triangle forces of the last advance() [N].
-  const Eigen::Vector3d& force() const { return m_force; }
-
- private:
-  sdk::ShellSurface m_surface;
-  sdk::Positions m_rest;
-  bool m_fixed;
-  double m_mass;
-  double m_velocity = 0.0;
-  double m_offset = 0.0;
-  Eigen::Vector3d m_force = Eigen::Vector3d::Zero();
-};
+/// A flat plate of side `size` and surface density σ, normal +x, that only translates
+/// along x (no gravity); a fixed plate receives the forces but does not move.
+test::TranslatingShell sliding_plate(const Eigen::Vector3d& center, double size, double sigma,
+                                     bool fixed) {
+  auto plate = test::make_plate(center, Eigen::Vector3d::UnitX(), size, 7);
+  plate.surface_density.setConstant(sigma);
+  return test::TranslatingShell(std::move(plate), 0, 0.0, fixed);
+}
 
 /// A channel along x: inflow at x = 0 with speed `u`, open at x = length, walls elsewhere.
 nlohmann::json channel(double u, double length, int resolution) {
@@ -114,7 +69,7 @@ TEST(TwoWayCoupling, ForceOnAFixedPlatePointsDownstreamAndScalesWithSpeedSquared
   for (int run = 0; run < 2; ++run) {
     const double u = run == 0 ? 1.0 : 2.0;
     auto fluid = test::make_fluid(channel(u, 2.0, 24), Eigen::Vector3d::Zero());
-    SlidingPlate plate({0.8, 0.5, 0.5}, 0.5, 1.0, /*fixed=*/true);
+    auto plate = sliding_plate({0.8, 0.5, 0.5}, 0.5, 1.0, /*fixed=*/true);
     coupling::CouplingLoop loop(fluid.get(), {&plate}, {0.5, std::nullopt});
     loop.start(0.0, kForever);
     for (int step = 0; step < 12; ++step) {
@@ -143,7 +98,7 @@ TEST(TwoWayCoupling, FreePlateAcceleratesTowardTheStreamAndNeverPassesIt) {
   // backward force, so only the trend over several crossings is checked.
   const double u = 1.0;
   auto fluid = test::make_fluid(channel(u, 4.0, 48), Eigen::Vector3d::Zero());
-  SlidingPlate plate({0.6, 0.5, 0.5}, 0.5, 1.0, /*fixed=*/false);
+  auto plate = sliding_plate({0.6, 0.5, 0.5}, 0.5, 1.0, /*fixed=*/false);
   coupling::CouplingLoop loop(fluid.get(), {&plate}, {0.5, std::nullopt});
   loop.start(0.0, kForever);
   double fluid_impulse = 0.0;  // on the fluid from the plate's Neumann faces
@@ -175,7 +130,7 @@ TEST(TwoWayCoupling, FreePlateAcceleratesTowardTheStreamAndNeverPassesIt) {
 std::vector<double> thrown_plate_energies(double sigma, double cfl, int steps) {
   auto fluid = test::make_fluid({{"resolution", 16}, {"pressure", {{"tolerance", 1e-8}}}},
                                 Eigen::Vector3d::Zero());
-  SlidingPlate plate({0.3, 0.5, 0.5}, 0.5, sigma, /*fixed=*/false);
+  auto plate = sliding_plate({0.3, 0.5, 0.5}, 0.5, sigma, /*fixed=*/false);
   plate.set_velocity(1.0);
   // The fluid starts at rest, so its CFL limit knows nothing of the plate: cap the step
   // at the plate's CFL number (1 m/s over Δx = 1/16 m).

@@ -37,59 +37,8 @@ sdk::ShellSurface make_box(double bottom, double sigma) {
   s.velocities = sdk::Positions::Zero(s.positions.rows(), 3);
   s.triangles = std::make_shared<const sdk::Triangles>(mesh.triangles);
   s.surface_density = Eigen::VectorXd::Constant(mesh.triangles.rows(), sigma);
-  s.receives_fluid_forces = true;
   return s;
 }
-
-/// A rigid shell that only moves vertically: M dv/dt = F_y − M g (symplectic Euler), or
-/// held still (it receives the forces and records them, as a force gauge).
-class HeavingShell final : public sdk::SolidSolver {
- public:
-  HeavingShell(sdk::ShellSurface surface, bool held) : m_surface(std::move(surface)), m_held(held) {
-    m_rest = m_surface.positions;
-    const auto& T = *m_surface.triangles;
-    for (int t = 0; t < m_surface.triangle_count(); ++t) {
-      const Eigen::Vector3d a = m_rest.row(T(t, 0)), b = m_rest.row(T(t, 1)), c = m_rest.row(T(t, 2));
-      m_mass += m_surface.surface_density[t] * 0.5 * (b - a).cross(c - a).norm();
-    }
-  }
-  std::span<const sdk::ShellSurface> surfaces() const override { return {&m_surface, 1}; }
-  void advance(double, double dt, std::span<const sdk::TriangleVectors> forces) override {
-    m_force = forces.empty() || forces[0].rows() == 0
-                  ? Eigen::Vector3d::Zero()
-                  : Eigen::Vector3d(forces[0].colwise().sum().transpose());
-    if (!m_held) {
-      m_velocity += dt * (m_force.y() / m_mass - kG);
-      m_offset += dt * m_velocity;
-    }
-    m_surface.positions = m_rest;
-    m_surface.positions.col(1).array() += m_offset;
-    m_surface.velocities.setZero();
-    m_surface.velocities.col(1).setConstant(m_velocity);
-  }
-  void save(sdk::StateWriter& out) const override {
-    out.write(m_velocity);
-    out.write(m_offset);
-  }
-  void restore(sdk::StateReader& in) override {
-    m_velocity = in.read<double>();
-    m_offset = in.read<double>();
-    advance(0.0, 0.0, {});
-  }
-  double mass() const { return m_mass; }
-  double offset() const { return m_offset; }
-  double velocity() const { return m_velocity; }
-  const Eigen::Vector3d& force() const { return m_force; }
-
- private:
-  sdk::ShellSurface m_surface;
-  sdk::Positions m_rest;
-  bool m_held;
-  double m_mass = 0.0;
-  double m_velocity = 0.0;
-  double m_offset = 0.0;
-  Eigen::Vector3d m_force = Eigen::Vector3d::Zero();
-};
 
 /// A still pool up to kPool; with `dry_box_bottom` the inside of the box standing there
 /// (above its bottom) is air, else the water fills it.
@@ -114,7 +63,7 @@ Eigen::Vector3d held_force(double bottom, std::optional<double> dry_bottom, int 
   auto fluid = test::make_fluid(tank(dry_bottom));
   // σ so large (β = ρΔx/σ ≈ 1e-6) that the box is a wall to the solve: the force of
   // still water on a body that does not move.
-  HeavingShell box(make_box(bottom, 3e7), /*held=*/true);
+  test::TranslatingShell box(make_box(bottom, 3e7), 1, -kG, /*held=*/true);
   coupling::CouplingLoop loop(fluid.get(), {&box}, {0.5, 0.01});
   loop.start(0.0, kForever);
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
@@ -179,7 +128,7 @@ TEST(WaterCoupling, DISABLED_FreeBoxFloatsAtTheDraftItsMassImplies) {
   const double sigma = kRho * kSide * kSide * draft / area;  // 37.5 kg/m²: β = 0.83
   const double bottom = kPool - draft + kDx;
   auto fluid = test::make_fluid(tank(bottom));
-  HeavingShell box(make_box(bottom, sigma), /*held=*/false);
+  test::TranslatingShell box(make_box(bottom, sigma), 1, -kG, /*held=*/false);
   coupling::CouplingLoop loop(fluid.get(), {&box}, {0.5, 0.01});
   loop.start(0.0, kForever);
   double sum = 0.0, time = 0.0;  // ∫ offset dt over the last second
