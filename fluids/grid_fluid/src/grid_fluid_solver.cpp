@@ -684,6 +684,7 @@ void GridFluid::report(sdk::Metrics& out) const {
   out.set("max_speed", m_mac.max_face_speed());
   const auto& c = m_stats.coupling;
   out.set("coupling_faces", static_cast<double>(c.coupled_faces));
+  out.set("coupling_rigid_faces", static_cast<double>(c.rigid_faces));
   out.set("coupling_iterations", c.iterations);
   out.set("coupling_relative_residual", c.relative_residual);
   out.set("coupling_max_pressure_jump", c.max_pressure_jump);

@@ -173,6 +173,14 @@ void BulletRigidSolver::update_surfaces() {
     auto& s = m_surfaces[static_cast<size_t>(i)];
     m_world->node_positions(i, s.positions);
     m_world->node_velocities(i, s.velocities);
+    if (!s.receives_fluid_forces) continue;
+    // The fluid moves the body as one in its coupling solve (sdk::RigidBody).
+    sdk::RigidBody body;
+    body.centre_of_mass = m_world->state(i).centre_of_mass;
+    body.inverse_mass = Eigen::Matrix3d::Identity() / m_world->mass_properties(i).mass;
+    body.inverse_inertia = m_world->world_inverse_inertia(i);
+    body.acceleration = m_world->gravity();
+    s.rigid = body;
   }
 }
 

@@ -347,6 +347,16 @@ Eigen::Matrix3d RigidShellWorld::world_inertia(int body) const {
   return r * b.mass.principal_moments.asDiagonal() * r.transpose();
 }
 
+Eigen::Matrix3d RigidShellWorld::world_inverse_inertia(int body) const {
+  const Body& b = m_impl->body(body);
+  const Eigen::Matrix3d r = to_eigen(b.rigid->getCenterOfMassTransform().getBasis());
+  const Eigen::Vector3d inverse =
+      b.mass.principal_moments.unaryExpr([](double m) { return m > 0.0 ? 1.0 / m : 0.0; });
+  return r * inverse.asDiagonal() * r.transpose();
+}
+
+const Eigen::Vector3d& RigidShellWorld::gravity() const { return m_impl->settings.gravity; }
+
 void RigidShellWorld::node_positions(int body, sdk::Positions& out) const {
   const Body& b = m_impl->body(body);
   const RigidBodyState s = state(body);

@@ -63,6 +63,14 @@ class TranslatingShell final : public sdk::SolidSolver {
                             c = m_rest.row(T(t, 2));
       m_mass += m_surface.surface_density[t] * 0.5 * (b - a).cross(c - a).norm();
     }
+    // One rigid body that moves along `axis` only (a held one: infinitely heavy).
+    sdk::RigidBody body;
+    if (!held) {
+      body.inverse_mass(axis, axis) = 1.0 / m_mass;
+      body.acceleration[axis] = gravity;
+    }
+    body.centre_of_mass = m_rest.colwise().mean().transpose();
+    m_surface.rigid = body;
   }
   std::span<const sdk::ShellSurface> surfaces() const override { return {&m_surface, 1}; }
   void advance(double, double dt, std::span<const sdk::TriangleVectors> forces) override {
@@ -77,6 +85,7 @@ class TranslatingShell final : public sdk::SolidSolver {
     m_surface.positions.col(m_axis).array() += m_offset;
     m_surface.velocities.setZero();
     m_surface.velocities.col(m_axis).setConstant(m_velocity);
+    m_surface.rigid->centre_of_mass[m_axis] = m_rest.col(m_axis).mean() + m_offset;
   }
   void save(sdk::StateWriter& out) const override {
     out.write(m_velocity);

@@ -1,5 +1,6 @@
 #include "shellflow/grid_fluid/pressure/coupling_pressure.hpp"
 
+#include <Eigen/QR>
 #include <omp.h>
 
 #include <algorithm>
@@ -24,8 +25,36 @@ CouplingPressure::CouplingPressure(const grid::UniformGrid& grid, CouplingSettin
 }
 
 void CouplingPressure::classify_faces(const DomainBoundary& boundary, const ShellGeometry& shells,
-                                      const geometry::ShellBand& band, CouplingStats& stats) {
+                                      const geometry::ShellBand& band, sdk::ShellSet set,
+                                      CouplingStats& stats) {
   m_shell_faces.clear();
+  // The rigid two-way shells: one body each in the solve.
+  m_body_of_shell.assign(set.size(), -1);
+  m_bodies.clear();
+  for (size_t i = 0; i < set.size(); ++i) {
+    if (!set[i].receives_fluid_forces || !set[i].rigid) continue;
+    const sdk::RigidBody& r = *set[i].rigid;
+    m_body_of_shell[i] = static_cast<int>(m_bodies.size());
+    RigidShellFaces& body = m_bodies.emplace_back();
+    body.shell = static_cast<int>(i);
+    body.inverse_mass.topLeftCorner<3, 3>() = r.inverse_mass;
+    body.inverse_mass.bottomRightCorner<3, 3>() = r.inverse_inertia;
+    body.centre_of_mass = r.centre_of_mass;
+    body.acceleration = r.acceleration;
+    const auto& T = *set[i].triangles;
+    const auto& x = set[i].positions;
+    for (int t = 0; t < set[i].triangle_count(); ++t) {
+      const Eigen::Vector3d p0 = x.row(T(t, 0)).transpose();
+      const Eigen::Vector3d p1 = x.row(T(t, 1)).transpose();
+      const Eigen::Vector3d p2 = x.row(T(t, 2)).transpose();
+      // Faces are only taken between two cells: the centres' box bounds what they see.
+      const Eigen::Vector3d centre = (p0 + p1 + p2) / 3.0;
+      const Eigen::Vector3d lo = m_grid.origin().array() + 0.5 * m_grid.dx();
+      const Eigen::Vector3d hi = m_grid.upper().array() - 0.5 * m_grid.dx();
+      if ((centre.array() < lo.array()).any() || (centre.array() > hi.array()).any()) continue;
+      body.projected_area += (0.5 * (p1 - p0).cross(p2 - p0)).cwiseAbs();
+    }
+  }
   const double dx = m_grid.dx();
   const double half = 0.5 * dx;
   for (int a = 0; a < 3; ++a) {
@@ -53,7 +82,8 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary, const Shel
       if (!hit) continue;
       const double velocity = shells.velocity_at(*hit)[a];
       double beta = 0.0;  // a one-way shell: Neumann, it does not yield to the fluid
-      if (shells.receives_forces(hit->shell)) {
+      const int body = m_body_of_shell[hit->shell];
+      if (body < 0 && shells.receives_forces(hit->shell)) {
         const double sigma = shells.surface_density_at(*hit);
         if (!(sigma > 0.0)) {
           bad_density = true;
@@ -61,7 +91,7 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary, const Shel
         }
         beta = m_settings.fluid_density * dx / sigma;  // ρ / ρ_face with ρ_face = σ Δx²/Δx³
       }
-      found[omp_get_thread_num()].push_back({a, f, velocity, beta, hit->s});
+      found[omp_get_thread_num()].push_back({a, f, velocity, beta, hit->s, body});
     }
     if (bad_density)
       throw Error(
@@ -74,11 +104,13 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary, const Shel
               [](const ShellFace& x, const ShellFace& y) { return x.face < y.face; });
     for (size_t k = first; k < m_shell_faces.size(); ++k) {
       const ShellFace& sf = m_shell_faces[k];
-      if (sf.beta == 0.0) {
-        closed[sf.face] = 1;
+      // A rigid body's faces close for the region labelling only (solve()).
+      if (!sf.two_way() || sf.body >= 0) closed[sf.face] = 1;
+      if (!sf.two_way()) {
         ++stats.kinematic_faces;
       } else {
         ++stats.coupled_faces;
+        if (sf.body >= 0) ++stats.rigid_faces;
       }
     }
   }
@@ -90,9 +122,11 @@ Eigen::VectorXd CouplingPressure::right_hand_side(const MacGrid& mac) const {
 #pragma omp parallel for schedule(static)
   for (std::int64_t cell = 0; cell < cells; ++cell)
     b[cell] = -mac.outward_flux(m_grid.coordinates(Location::Cell, cell));
-  // Shell faces carry the shell's velocity (§5.1), not u*.
+  // Shell faces carry the shell's velocity (§5.1), not u*; a rigid body's faces enter
+  // through its jumps in solve() (−Kᵀ V*, rigid_shell_coupling.hpp).
   for (const ShellFace& sf : m_shell_faces) {
-    const double delta = sf.velocity - mac.face_velocity(sf.axis)[sf.face];
+    const double velocity = sf.body >= 0 ? 0.0 : sf.velocity;
+    const double delta = velocity - mac.face_velocity(sf.axis)[sf.face];
     Eigen::Vector3i ijk = m_grid.coordinates(face_location(sf.axis), sf.face);
     b[m_grid.index(Location::Cell, ijk)] += delta;  // its min face: outward −u
     ijk[sf.axis] -= 1;
@@ -101,14 +135,30 @@ Eigen::VectorXd CouplingPressure::right_hand_side(const MacGrid& mac) const {
   return b;
 }
 
-void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
+void CouplingPressure::solve(Eigen::VectorXd& b, double dt, const DomainBoundary& boundary,
                              CouplingStats& stats) {
-  // One-way shells and sources close interior faces here (two-way shell faces stay open).
-  label_fluid_regions(
-      m_grid, m_closed, boundary, m_regions,
-      stats.kinematic_faces > 0 || boundary.has_source_faces() || m_surface != nullptr,
-      m_surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
-                           : std::span<const std::uint8_t>());
+  // The β-weighted cell Laplacian (linear::GridLaplacian: a face of weight w couples its
+  // cells, or its cell to q = 0 outside an open domain face; w = 0 is Neumann, and a rigid
+  // body's faces, which the body couples).
+  for (int a = 0; a < 3; ++a) {
+    auto& w = m_laplacian.weights(a);
+    const auto& closed = m_closed[a];
+    const std::int64_t faces = static_cast<std::int64_t>(w.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t f = 0; f < faces; ++f) w[f] = closed[f] != 0 ? 0.0 : 1.0;
+  }
+  for (const ShellFace& sf : m_shell_faces)
+    if (sf.two_way()) m_laplacian.weights(sf.axis)[sf.face] = sf.body >= 0 ? 0.0 : sf.beta;
+  if (m_surface != nullptr) add_free_surface(b);
+  build_jumps();
+  // −Kᵀ V*: the rigid faces' velocities without the fluid (their gravity over the step in).
+  for (size_t k = 0; k < m_shell_faces.size(); ++k) {
+    const ShellFace& sf = m_shell_faces[k];
+    if (sf.body >= 0)
+      m_jumps[k].scatter(sf.velocity + dt * m_bodies[sf.body].acceleration[sf.axis], b);
+  }
+  label_regions(boundary, stats);
+  const linear::ConstantNullSpace null_space = m_regions.null_space();
   for (int r = 0; r < m_regions.count(); ++r) {
     if (m_regions.enclosed[r] == 0) continue;
     double mean = 0.0;
@@ -119,30 +169,60 @@ void CouplingPressure::solve(Eigen::VectorXd& b, const DomainBoundary& boundary,
       b[m_regions.cells[k]] -= mean;
   }
 
-  // The β-weighted cell Laplacian (linear::GridLaplacian: a face of weight w couples its
-  // cells, or its cell to q = 0 outside an open domain face; w = 0 is Neumann).
-  const linear::ConstantNullSpace null_space = m_regions.null_space();
-  for (int a = 0; a < 3; ++a) {
-    auto& w = m_laplacian.weights(a);
-    const auto& closed = m_closed[a];
-    const std::int64_t faces = static_cast<std::int64_t>(w.size());
-#pragma omp parallel for schedule(static)
-    for (std::int64_t f = 0; f < faces; ++f) w[f] = closed[f] != 0 ? 0.0 : 1.0;
-  }
-  for (const ShellFace& sf : m_shell_faces)
-    if (sf.beta > 0.0) m_laplacian.weights(sf.axis)[sf.face] = sf.beta;
-  if (m_surface != nullptr) add_free_surface(b);
-
   const std::int64_t cells = m_grid.size(Location::Cell);
   Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(m_scaled.data(), cells);
   m_multigrid.compute(m_laplacian);
-  const auto result = linear::preconditioned_cg(m_laplacian, m_multigrid, b, x,
-                                                m_settings.tolerance, m_settings.max_iterations,
-                                                null_space.empty() ? nullptr : &null_space);
+  const double dx = m_grid.dx();
+  const RigidShellOperator coupled(m_laplacian, m_bodies, m_settings.fluid_density * dx * dx * dx);
+  const linear::LinearOperator& op =
+      m_bodies.empty() ? static_cast<const linear::LinearOperator&>(m_laplacian) : coupled;
+  const auto result =
+      linear::preconditioned_cg(op, m_multigrid, b, x, m_settings.tolerance,
+                                m_settings.max_iterations, null_space.empty() ? nullptr : &null_space);
   stats.iterations = result.iterations;
   stats.relative_residual = result.relative_residual;
   stats.converged = result.converged;
   std::copy(x.data(), x.data() + cells, m_scaled.begin());
+}
+
+void CouplingPressure::label_regions(const DomainBoundary& boundary, const CouplingStats& stats) {
+  // One-way shells, rigid bodies and sources close interior faces here (the faces of
+  // weight β stay open).
+  const auto label = [&] {
+    label_fluid_regions(m_grid, m_closed, boundary, m_regions,
+                        stats.kinematic_faces > 0 || stats.rigid_faces > 0 ||
+                            boundary.has_source_faces() || m_surface != nullptr,
+                        m_surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
+                                             : std::span<const std::uint8_t>());
+  };
+  label();
+  if (stats.rigid_faces == 0) return;
+  // An enclosed region whose constant no body feels (K 1_r = 0: the inside of a closed
+  // rigid shell, or fluid around one in a closed box) is a null vector of the whole
+  // operator. One a body does feel (fluid sealed under a piston or lid) is not: the body
+  // joins it to the cells across, so the rigid faces open and the labelling is redone.
+  const int count = m_regions.count();
+  std::vector<BodyVector> felt(count, BodyVector::Zero());
+  std::vector<double> scale(count, 0.0);
+  for (const RigidShellFaces& body : m_bodies) {
+    std::fill(felt.begin(), felt.end(), BodyVector::Zero());
+    for (size_t f = 0; f < body.jumps.size(); ++f) {
+      const FaceJump& jump = body.jumps[f];
+      for (int k = 0; k < jump.count; ++k) {
+        const int r = m_regions.region[jump.cell[k]];
+        if (r < 0 || m_regions.enclosed[r] == 0) continue;
+        felt[r] -= jump.weight[k] * body.rows[f];
+        scale[r] += std::abs(jump.weight[k]) * body.rows[f].norm();
+      }
+    }
+    for (int r = 0; r < count; ++r) {
+      if (felt[r].norm() <= 1e-9 * scale[r]) continue;
+      for (const ShellFace& sf : m_shell_faces)
+        if (sf.body >= 0) m_closed[sf.axis][sf.face] = 0;
+      label();
+      return;
+    }
+  }
 }
 
 void CouplingPressure::add_free_surface(Eigen::VectorXd& b) {
@@ -151,7 +231,7 @@ void CouplingPressure::add_free_surface(Eigen::VectorXd& b) {
   auto& across_shell = m_two_way_face;  // θ = 1 across these
   for (int a = 0; a < 3; ++a) across_shell[a].assign(m_laplacian.weights(a).size(), 0);
   for (const ShellFace& sf : m_shell_faces)
-    if (sf.beta > 0.0) across_shell[sf.axis][sf.face] = 1;
+    if (sf.two_way()) across_shell[sf.axis][sf.face] = 1;
   auto& dirichlet = m_laplacian.dirichlet();
   dirichlet.assign(cells, 0.0);
   // A liquid cell's open face to an air cell becomes its Dirichlet conductance.
@@ -198,22 +278,66 @@ void CouplingPressure::add_free_surface(Eigen::VectorXd& b) {
   }
 }
 
-double CouplingPressure::pressure_at_shell(std::int64_t cell, int axis, int step,
-                                          double reach) const {
-  if (air(cell)) return 0.0;
-  const double q = m_scaled[cell];
+void CouplingPressure::add_side_at_shell(FaceJump& jump, std::int64_t cell, int axis, int step,
+                                         double reach, double sign) const {
+  if (air(cell)) return;
   Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
   Eigen::Vector3i f = c;  // the face between the cell and its neighbour away from the shell
   if (step > 0) f[axis] += 1;
   c[axis] += step;
-  if (c[axis] < 0 || c[axis] >= m_grid.cells()[axis]) return q;
-  const std::int64_t face = m_grid.index(face_location(axis), f);
-  if (m_closed[axis][face] != 0 || m_two_way_face[axis][face] != 0) return q;  // no slope
+  const bool slope = c[axis] >= 0 && c[axis] < m_grid.cells()[axis] &&
+                     m_closed[axis][m_grid.index(face_location(axis), f)] == 0 &&
+                     m_two_way_face[axis][m_grid.index(face_location(axis), f)] == 0;
+  if (!slope) {
+    jump.add(cell, sign);
+    return;
+  }
   const std::int64_t neighbour = m_grid.index(Location::Cell, c);
-  // Air: p = 0 at the ghost point θΔx away (the projection's free surface).
-  const double slope = air(neighbour) ? q * free_surface_inverse_theta(*m_surface, cell, neighbour)
-                                      : q - m_scaled[neighbour];
-  return q + reach * slope;
+  if (air(neighbour)) {  // p = 0 at the ghost point θΔx away (the projection's free surface)
+    jump.add(cell, sign * (1.0 + reach * free_surface_inverse_theta(*m_surface, cell, neighbour)));
+  } else {
+    jump.add(cell, sign * (1.0 + reach));
+    jump.add(neighbour, -sign * reach);
+  }
+}
+
+void CouplingPressure::build_jumps() {
+  // The faces of axis a stand for the body's area projected on a (RigidShellFaces).
+  std::vector<Eigen::Vector3d> area_scale(m_bodies.size(), Eigen::Vector3d::Zero());
+  for (const ShellFace& sf : m_shell_faces)
+    if (sf.body >= 0) area_scale[sf.body][sf.axis] += m_grid.dx() * m_grid.dx();
+  for (size_t i = 0; i < m_bodies.size(); ++i)
+    for (int a = 0; a < 3; ++a)
+      if (area_scale[i][a] > 0.0) area_scale[i][a] = m_bodies[i].projected_area[a] / area_scale[i][a];
+  m_jumps.assign(m_shell_faces.size(), FaceJump{});
+  for (size_t k = 0; k < m_shell_faces.size(); ++k) {
+    const ShellFace& sf = m_shell_faces[k];
+    if (!sf.two_way()) continue;
+    const int a = sf.axis;
+    const Eigen::Vector3i ijk = m_grid.coordinates(face_location(a), sf.face);
+    Eigen::Vector3i lo = ijk;
+    lo[a] -= 1;
+    const std::int64_t plus = m_grid.index(Location::Cell, ijk);
+    const std::int64_t minus = m_grid.index(Location::Cell, lo);
+    FaceJump& jump = m_jumps[k];
+    if (m_surface == nullptr) {  // smoke: between the cell centres
+      jump.add(plus, 1.0);
+      jump.add(minus, -1.0);
+    } else {
+      add_side_at_shell(jump, plus, a, 1, 1.0 - sf.s, 1.0);
+      add_side_at_shell(jump, minus, a, -1, sf.s, -1.0);
+    }
+    if (sf.body < 0) continue;
+    // J_fᵀ = [e_a; r × e_a], r from the centre of mass to the face centre (the hit point
+    // differs from it only along e_a, which r × e_a does not see).
+    RigidShellFaces& body = m_bodies[sf.body];
+    const Eigen::Vector3d r = m_grid.position(face_location(a), ijk) - body.centre_of_mass;
+    const Eigen::Vector3d e = Eigen::Vector3d::Unit(a);
+    BodyVector row;
+    row << e, r.cross(e);
+    body.jumps.push_back(jump);
+    body.rows.push_back(area_scale[sf.body][a] * row);
+  }
 }
 
 void CouplingPressure::jumps_to_nodes(double to_pressure, CouplingStats& stats) {
@@ -231,19 +355,12 @@ void CouplingPressure::jumps_to_nodes(double to_pressure, CouplingStats& stats) 
     }
   m_touched.clear();
   // Each shell face's jump p₊ − p₋ goes to its four nodes (summed, then averaged).
-  for (const ShellFace& sf : m_shell_faces) {
-    if (sf.beta == 0.0) continue;
+  for (size_t k = 0; k < m_shell_faces.size(); ++k) {
+    const ShellFace& sf = m_shell_faces[k];
+    if (!sf.two_way()) continue;
     const int a = sf.axis;
     const Eigen::Vector3i ijk = m_grid.coordinates(face_location(a), sf.face);
-    Eigen::Vector3i lo = ijk;
-    lo[a] -= 1;
-    const std::int64_t plus = m_grid.index(Location::Cell, ijk);
-    const std::int64_t minus = m_grid.index(Location::Cell, lo);
-    const double jump = (m_surface == nullptr
-                             ? m_scaled[plus] - m_scaled[minus]
-                             : pressure_at_shell(plus, a, 1, 1.0 - sf.s) -
-                                   pressure_at_shell(minus, a, -1, sf.s)) *
-                        to_pressure;
+    const double jump = m_jumps[k].of(m_scaled) * to_pressure;
     stats.max_pressure_jump = std::max(stats.max_pressure_jump, std::abs(jump));
     const int b = (a + 1) % 3;
     const int c = (a + 2) % 3;
@@ -328,8 +445,7 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
     const auto& T = *s.triangles;
     const int count = s.triangle_count();
     std::int64_t missing = 0;
-    double fx = 0.0, fy = 0.0, fz = 0.0;
-#pragma omp parallel for schedule(static) reduction(+ : missing, fx, fy, fz)
+#pragma omp parallel for schedule(static) reduction(+ : missing)
     for (int tri = 0; tri < count; ++tri) {
       const Eigen::Vector3d p0 = s.positions.row(T(tri, 0)).transpose();
       const Eigen::Vector3d area = 0.5 * (s.positions.row(T(tri, 1)).transpose() - p0)
@@ -360,16 +476,53 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
         ++missing;
         continue;
       }
-      const Eigen::Vector3d f = -(along / weight) * area;
-      out.row(tri) = f.transpose();
-      fx += f.x();
-      fy += f.y();
-      fz += f.z();
+      out.row(tri) = -(along / weight) * area.transpose();
     }
+    if (m_body_of_shell[si] >= 0) match_wrench(s, m_body_wrench[m_body_of_shell[si]], out);
     stats.triangles_without_jump += missing;
-    stats.total_force += Eigen::Vector3d(fx, fy, fz);
+    stats.total_force += out.colwise().sum().transpose();
     offset += count;
   }
+}
+
+void CouplingPressure::match_wrench(const sdk::ShellSurface& shell, const BodyVector& wrench,
+                                    sdk::TriangleVectors& out) const {
+  const auto& T = *shell.triangles;
+  const int count = shell.triangle_count();
+  const Eigen::Vector3d& com = shell.rigid->centre_of_mass;
+  std::vector<double> area(count);
+  std::vector<Eigen::Vector3d> centre(count);
+  double total = 0.0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  BodyVector now = BodyVector::Zero();  // the wrench of steps 3–4
+  for (int t = 0; t < count; ++t) {
+    const Eigen::Vector3d p0 = shell.positions.row(T(t, 0)).transpose();
+    const Eigen::Vector3d p1 = shell.positions.row(T(t, 1)).transpose();
+    const Eigen::Vector3d p2 = shell.positions.row(T(t, 2)).transpose();
+    area[t] = 0.5 * (p1 - p0).cross(p2 - p0).norm();
+    centre[t] = (p0 + p1 + p2) / 3.0;
+    total += area[t];
+    centroid += area[t] * centre[t];
+    const Eigen::Vector3d f = out.row(t).transpose();
+    now.head<3>() += f;
+    now.tail<3>() += (centre[t] - com).cross(f);
+  }
+  if (!(total > 0.0)) return;
+  centroid /= total;
+  // δf_t = A_t (α + β × r_t), r_t from the area centroid: Σ δf = α A, and its torque about
+  // the centre of mass is d × α A + I_A β (d the centroid's offset, I_A the area inertia).
+  Eigen::Matrix3d inertia = Eigen::Matrix3d::Zero();
+  for (int t = 0; t < count; ++t) {
+    const Eigen::Vector3d r = centre[t] - centroid;
+    inertia += area[t] * (r.squaredNorm() * Eigen::Matrix3d::Identity() - r * r.transpose());
+  }
+  const Eigen::Vector3d force = wrench.head<3>() - now.head<3>();
+  const Eigen::Vector3d torque = wrench.tail<3>() - now.tail<3>() - (centroid - com).cross(force);
+  const Eigen::Vector3d alpha = force / total;
+  // A shell with no area moment about some axis (a segment) takes no torque about it.
+  const Eigen::Vector3d beta = inertia.completeOrthogonalDecomposition().solve(torque);
+  for (int t = 0; t < count; ++t)
+    out.row(t) += area[t] * (alpha + beta.cross(centre[t] - centroid)).transpose();
 }
 
 CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
@@ -389,9 +542,15 @@ CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
   } else {
     m_laplacian.dirichlet().clear();
   }
-  classify_faces(boundary, shells, band, stats);
+  classify_faces(boundary, shells, band, set, stats);
   Eigen::VectorXd b = right_hand_side(mac);
-  solve(b, boundary, stats);
+  solve(b, dt, boundary, stats);
+  // The rigid bodies' wrenches as the solve has them (rigid_shell_coupling.hpp).
+  m_body_wrench.resize(m_bodies.size());
+  const double dx = m_grid.dx();
+  const Eigen::Map<const Eigen::VectorXd> q(m_scaled.data(), static_cast<Eigen::Index>(m_scaled.size()));
+  for (size_t i = 0; i < m_bodies.size(); ++i)
+    m_body_wrench[i] = m_settings.fluid_density * dx * dx * dx / dt * m_bodies[i].impulse(q);
   jumps_to_nodes(m_settings.fluid_density * m_grid.dx() / dt, stats);
   forces_on_triangles(set, forces, stats);
   m_surface = nullptr;

@@ -14,8 +14,8 @@
 #include <cstddef>
 #include <cstdint>
 
-#define SHELLFLOW_ABI_MAJOR 1
-#define SHELLFLOW_ABI_MINOR 1  // 1: FluidSolver::particles() (a new virtual)
+#define SHELLFLOW_ABI_MAJOR 2  // 2: ShellSurface::rigid (a new member: the layout changed)
+#define SHELLFLOW_ABI_MINOR 0
 #define SHELLFLOW_ENTRY_SYMBOL "shellflow_plugin_entry"
 
 #define SHELLFLOW_STRINGIFY_IMPL(x) #x

@@ -59,6 +59,10 @@ class RigidShellWorld {
   RigidBodyState state(int body) const;
   /// Inertia tensor about the centre of mass in the current world frame [kg m^2].
   Eigen::Matrix3d world_inertia(int body) const;
+  /// Its inverse [1/(kg m^2)], from the principal moments (a zero moment: a zero inverse).
+  Eigen::Matrix3d world_inverse_inertia(int body) const;
+  /// The gravity advance() adds [m/s^2].
+  const Eigen::Vector3d& gravity() const;
 
   /// Node positions R p + c and velocities v + ω × (x − c) of a body's mesh, now.
   void node_positions(int body, sdk::Positions& out) const;

@@ -25,6 +25,10 @@
 //     to the paper's for grid-aligned sheets.
 // The fluid's velocities are not changed: eq. (5) only measures the force (§5.1).
 //
+// A two-way shell that is one rigid body (ShellSurface::rigid) does not take σ/Δx on its
+// faces: the body moves as one in the solve (rigid_shell_coupling.hpp), its faces leave
+// the Laplacian and its inverse mass and inertia enter the operator. Steps 3–4 are the same.
+//
 // With water (a FreeSurface, as the projection sees it) only the liquid cells are
 // unknowns: air cells hold p = 0, a liquid cell's face to an air cell is a Dirichlet
 // conductance (its weight, 1 or β, times 1/θ of the ghost fluid rule; θ = 1 across a
@@ -48,6 +52,7 @@
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
 #include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
 #include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
+#include "shellflow/grid_fluid/pressure/rigid_shell_coupling.hpp"
 #include "shellflow/linear/grid_laplacian.hpp"
 #include "shellflow/linear/multigrid_preconditioner.hpp"
 #include "shellflow/sdk/shell_surface.hpp"
@@ -64,6 +69,7 @@ struct CouplingSettings {
 
 struct CouplingStats {
   std::int64_t coupled_faces = 0;    ///< faces carrying a two-way shell's mass
+  std::int64_t rigid_faces = 0;      ///< of those, faces of rigid shells moved as one body
   std::int64_t kinematic_faces = 0;  ///< faces closed by a one-way shell (Neumann)
   int iterations = 0;
   double relative_residual = 0.0;
@@ -101,27 +107,43 @@ class CouplingPressure {
     double velocity;
     double beta;
     double s;  ///< where the shell cuts the segment between the cell centres, 0 at the − cell
+    int body;  ///< a rigid shell's face: its index in m_bodies (β unused); else −1
+    bool two_way() const { return beta > 0.0 || body >= 0; }
   };
   void classify_faces(const DomainBoundary& boundary, const ShellGeometry& shells,
-                      const geometry::ShellBand& band, CouplingStats& stats);
+                      const geometry::ShellBand& band, sdk::ShellSet set, CouplingStats& stats);
   Eigen::VectorXd right_hand_side(const MacGrid& mac) const;
-  void solve(Eigen::VectorXd& b, const DomainBoundary& boundary, CouplingStats& stats);
+  void solve(Eigen::VectorXd& b, double dt, const DomainBoundary& boundary, CouplingStats& stats);
+  /// The fluid regions and which are enclosed (their constants: the operator's null space).
+  void label_regions(const DomainBoundary& boundary, const CouplingStats& stats);
+  /// The jump [q] of every shell face (m_jumps) and the rigid bodies' faces (m_bodies).
+  void build_jumps();
   /// Water: faces touching air leave the Laplacian, the liquid cell's side becomes a
   /// Dirichlet conductance (weight × 1/θ), and the air rows are emptied (b = 0, guess q = 0).
   void add_free_surface(Eigen::VectorXd& b);
   bool air(std::int64_t cell) const { return m_surface != nullptr && m_liquid[cell] == 0; }
   void jumps_to_nodes(double to_pressure, CouplingStats& stats);
-  /// Water: q of `cell` extrapolated by `reach` cells (its distance to the shell) away from
-  /// its neighbour `cell − step·e_axis`, with the one-sided slope through that neighbour
-  /// (0 at the free surface's ghost point for air; no slope across a wall or shell).
-  double pressure_at_shell(std::int64_t cell, int axis, int step, double reach) const;
+  /// Water: adds `sign` × q of `cell` extrapolated by `reach` cells (its distance to the
+  /// shell) away from its neighbour `cell − step·e_axis`, with the one-sided slope through
+  /// that neighbour (0 at the free surface's ghost point for air; no slope across a wall or
+  /// shell), to `jump`. Air cells add nothing (q = 0).
+  void add_side_at_shell(FaceJump& jump, std::int64_t cell, int axis, int step, double reach,
+                         double sign) const;
   void forces_on_triangles(sdk::ShellSet set, std::span<sdk::TriangleVectors> forces,
                            CouplingStats& stats);
+  /// A rigid body's triangle forces, corrected to carry its solve's wrench exactly (a
+  /// force per area plus a torque per area moment, about the triangles' area centroid).
+  void match_wrench(const sdk::ShellSurface& shell, const BodyVector& wrench,
+                    sdk::TriangleVectors& out) const;
 
   grid::UniformGrid m_grid;
   CouplingSettings m_settings;
   std::array<std::vector<std::uint8_t>, 3> m_closed;  ///< Neumann faces
   std::vector<ShellFace> m_shell_faces;
+  std::vector<FaceJump> m_jumps;         ///< per shell face: [q] at the shell
+  std::vector<int> m_body_of_shell;      ///< per shell of the set: index in m_bodies, or −1
+  std::vector<BodyVector> m_body_wrench;  ///< per body: ρ Δx³/Δt K q [N; N m]
+  std::vector<RigidShellFaces> m_bodies;
   const FreeSurface* m_surface = nullptr;  ///< during compute() of a water scene
   std::vector<std::uint8_t> m_liquid;      ///< per cell, water scenes only
   std::array<std::vector<std::uint8_t>, 3> m_two_way_face;  ///< water: faces of m_shell_faces
