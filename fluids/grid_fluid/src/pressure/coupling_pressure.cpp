@@ -36,23 +36,28 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary, const Shel
     const sdk::RigidBody& r = *set[i].rigid;
     m_body_of_shell[i] = static_cast<int>(m_bodies.size());
     RigidShellFaces& body = m_bodies.emplace_back();
-    body.shell = static_cast<int>(i);
     body.inverse_mass.topLeftCorner<3, 3>() = r.inverse_mass;
     body.inverse_mass.bottomRightCorner<3, 3>() = r.inverse_inertia;
     body.centre_of_mass = r.centre_of_mass;
     body.acceleration = r.acceleration;
+    // Faces are only taken between two cells: the centres' box bounds what they see.
+    const Eigen::Vector3d lo = m_grid.origin().array() + 0.5 * m_grid.dx();
+    const Eigen::Vector3d hi = m_grid.upper().array() - 0.5 * m_grid.dx();
     const auto& T = *set[i].triangles;
     const auto& x = set[i].positions;
-    for (int t = 0; t < set[i].triangle_count(); ++t) {
+    const int count = set[i].triangle_count();
+    body.triangle_area.resize(count);
+    body.triangle_centre.resize(count);
+    for (int t = 0; t < count; ++t) {
       const Eigen::Vector3d p0 = x.row(T(t, 0)).transpose();
       const Eigen::Vector3d p1 = x.row(T(t, 1)).transpose();
       const Eigen::Vector3d p2 = x.row(T(t, 2)).transpose();
-      // Faces are only taken between two cells: the centres' box bounds what they see.
+      const Eigen::Vector3d area = 0.5 * (p1 - p0).cross(p2 - p0);
       const Eigen::Vector3d centre = (p0 + p1 + p2) / 3.0;
-      const Eigen::Vector3d lo = m_grid.origin().array() + 0.5 * m_grid.dx();
-      const Eigen::Vector3d hi = m_grid.upper().array() - 0.5 * m_grid.dx();
+      body.triangle_area[t] = area.norm();
+      body.triangle_centre[t] = centre;
       if ((centre.array() < lo.array()).any() || (centre.array() > hi.array()).any()) continue;
-      body.projected_area += (0.5 * (p1 - p0).cross(p2 - p0)).cwiseAbs();
+      body.projected_area += area.cwiseAbs();
     }
   }
   const double dx = m_grid.dx();
@@ -206,6 +211,7 @@ void CouplingPressure::label_regions(const DomainBoundary& boundary, const Coupl
   std::vector<double> scale(count, 0.0);
   for (const RigidShellFaces& body : m_bodies) {
     std::fill(felt.begin(), felt.end(), BodyVector::Zero());
+    std::fill(scale.begin(), scale.end(), 0.0);
     for (size_t f = 0; f < body.jumps.size(); ++f) {
       const FaceJump& jump = body.jumps[f];
       for (int k = 0; k < jump.count; ++k) {
@@ -285,9 +291,11 @@ void CouplingPressure::add_side_at_shell(FaceJump& jump, std::int64_t cell, int 
   Eigen::Vector3i f = c;  // the face between the cell and its neighbour away from the shell
   if (step > 0) f[axis] += 1;
   c[axis] += step;
-  const bool slope = c[axis] >= 0 && c[axis] < m_grid.cells()[axis] &&
-                     m_closed[axis][m_grid.index(face_location(axis), f)] == 0 &&
-                     m_two_way_face[axis][m_grid.index(face_location(axis), f)] == 0;
+  bool slope = c[axis] >= 0 && c[axis] < m_grid.cells()[axis];
+  if (slope) {
+    const std::int64_t face = m_grid.index(face_location(axis), f);
+    slope = m_closed[axis][face] == 0 && m_two_way_face[axis][face] == 0;
+  }
   if (!slope) {
     jump.add(cell, sign);
     return;
@@ -478,29 +486,24 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
       }
       out.row(tri) = -(along / weight) * area.transpose();
     }
-    if (m_body_of_shell[si] >= 0) match_wrench(s, m_body_wrench[m_body_of_shell[si]], out);
+    if (const int body = m_body_of_shell[si]; body >= 0)
+      match_wrench(m_bodies[body], m_body_wrench[body], out);
     stats.triangles_without_jump += missing;
     stats.total_force += out.colwise().sum().transpose();
     offset += count;
   }
 }
 
-void CouplingPressure::match_wrench(const sdk::ShellSurface& shell, const BodyVector& wrench,
-                                    sdk::TriangleVectors& out) const {
-  const auto& T = *shell.triangles;
-  const int count = shell.triangle_count();
-  const Eigen::Vector3d& com = shell.rigid->centre_of_mass;
-  std::vector<double> area(count);
-  std::vector<Eigen::Vector3d> centre(count);
+void CouplingPressure::match_wrench(const RigidShellFaces& body, const BodyVector& wrench,
+                                    sdk::TriangleVectors& out) {
+  const auto& area = body.triangle_area;
+  const auto& centre = body.triangle_centre;
+  const int count = static_cast<int>(area.size());
+  const Eigen::Vector3d& com = body.centre_of_mass;
   double total = 0.0;
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
   BodyVector now = BodyVector::Zero();  // the wrench of steps 3–4
   for (int t = 0; t < count; ++t) {
-    const Eigen::Vector3d p0 = shell.positions.row(T(t, 0)).transpose();
-    const Eigen::Vector3d p1 = shell.positions.row(T(t, 1)).transpose();
-    const Eigen::Vector3d p2 = shell.positions.row(T(t, 2)).transpose();
-    area[t] = 0.5 * (p1 - p0).cross(p2 - p0).norm();
-    centre[t] = (p0 + p1 + p2) / 3.0;
     total += area[t];
     centroid += area[t] * centre[t];
     const Eigen::Vector3d f = out.row(t).transpose();
@@ -548,10 +551,11 @@ CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
   // The rigid bodies' wrenches as the solve has them (rigid_shell_coupling.hpp).
   m_body_wrench.resize(m_bodies.size());
   const double dx = m_grid.dx();
-  const Eigen::Map<const Eigen::VectorXd> q(m_scaled.data(), static_cast<Eigen::Index>(m_scaled.size()));
+  const Eigen::Map<const Eigen::VectorXd> q(m_scaled.data(),
+                                             static_cast<Eigen::Index>(m_scaled.size()));
   for (size_t i = 0; i < m_bodies.size(); ++i)
     m_body_wrench[i] = m_settings.fluid_density * dx * dx * dx / dt * m_bodies[i].impulse(q);
-  jumps_to_nodes(m_settings.fluid_density * m_grid.dx() / dt, stats);
+  jumps_to_nodes(m_settings.fluid_density * dx / dt, stats);
   forces_on_triangles(set, forces, stats);
   m_surface = nullptr;
   return stats;

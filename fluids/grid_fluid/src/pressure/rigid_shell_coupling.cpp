@@ -2,7 +2,7 @@
 
 namespace shellflow::grid_fluid {
 
-BodyVector RigidShellFaces::impulse(const Eigen::VectorXd& q) const {
+BodyVector RigidShellFaces::impulse(const Eigen::Ref<const Eigen::VectorXd>& q) const {
   BodyVector k = BodyVector::Zero();
   for (size_t f = 0; f < jumps.size(); ++f) k -= jumps[f].of(q) * rows[f];
   return k;

@@ -133,8 +133,8 @@ class CouplingPressure {
                            CouplingStats& stats);
   /// A rigid body's triangle forces, corrected to carry its solve's wrench exactly (a
   /// force per area plus a torque per area moment, about the triangles' area centroid).
-  void match_wrench(const sdk::ShellSurface& shell, const BodyVector& wrench,
-                    sdk::TriangleVectors& out) const;
+  static void match_wrench(const RigidShellFaces& body, const BodyVector& wrench,
+                           sdk::TriangleVectors& out);
 
   grid::UniformGrid m_grid;
   CouplingSettings m_settings;

@@ -61,7 +61,6 @@ using BodyVector = Eigen::Matrix<double, 6, 1>;  ///< [linear; angular]
 
 /// One rigid shell in the coupling solve: the body, and the faces it cuts.
 struct RigidShellFaces {
-  int shell = -1;  ///< in the shell set
   Eigen::Matrix<double, 6, 6> inverse_mass = Eigen::Matrix<double, 6, 6>::Zero();  ///< 𝓜⁻¹
   Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();  ///< [m]
   Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();    ///< without the fluid [m/s²]
@@ -69,10 +68,12 @@ struct RigidShellFaces {
   /// stand for. The grid counts whole faces (a staircase: 2 % off for a 0.4 m square at
   /// 48³); each J_f of axis a is scaled so that Σ_f Δx² J_f has the shell's true area.
   Eigen::Vector3d projected_area = Eigen::Vector3d::Zero();
+  std::vector<double> triangle_area;              ///< per triangle [m²]
+  std::vector<Eigen::Vector3d> triangle_centre;   ///< per triangle: its barycentre [m]
   std::vector<FaceJump> jumps;       ///< per face
   std::vector<BodyVector> rows;      ///< J_fᵀ per face (area-scaled)
   /// K q = −Σ_f J_fᵀ [q]_f.
-  BodyVector impulse(const Eigen::VectorXd& q) const;
+  BodyVector impulse(const Eigen::Ref<const Eigen::VectorXd>& q) const;
   /// y += Kᵀ w = −Σ_f (J_f w) ∂[q]_f/∂q: the transpose of impulse().
   void add_transpose(const BodyVector& w, Eigen::VectorXd& y) const;
 };
