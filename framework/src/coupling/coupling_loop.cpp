@@ -11,7 +11,22 @@ namespace shellflow::coupling {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+
+/// The fluid solves over Δt_n and a rigid body's V* is v + a Δt_n, but the solid then adds
+/// a over the look-ahead step Δt_{n+1}. Scaling a by Δt_{n+1}/Δt_n makes the solve balance
+/// exactly the velocity the solid will gain: without it a floating body got a kick
+/// m a (Δt_{n+1} - Δt_n) at each frame end, where the steps are cut to land on it.
+/// Empty when no shell is rigid (nothing to copy).
+std::vector<sdk::ShellSurface> with_rigid_accelerations_over_solid_step(
+    const std::vector<sdk::ShellSurface>& shells, double solid_steps_per_fluid_step) {
+  if (std::none_of(shells.begin(), shells.end(), [](const auto& s) { return s.rigid; }))
+    return {};
+  std::vector<sdk::ShellSurface> scaled(shells);
+  for (auto& s : scaled)
+    if (s.rigid) s.rigid->acceleration *= solid_steps_per_fluid_step;
+  return scaled;
 }
+}  // namespace
 
 CouplingLoop::CouplingLoop(sdk::FluidSolver* fluid, std::vector<sdk::SolidSolver*> solids,
                            StepLimits limits)
@@ -136,19 +151,22 @@ PhaseTimes CouplingLoop::step(double dt, double time_to_frame_end_after_step) {
 
   std::vector<sdk::Positions> effective_velocity(shells_np1.size());
   if (!m_solids.empty()) {
+    // The look-ahead step n+1 -> n+2 the solids will take under these forces; neither the
+    // coupling solve nor anything before it changes what it depends on.
+    const double dt_next =
+        limit_dt(std::min(solids_stable_dt(), m_fluid->stable_dt(m_limits.cfl)),
+                 time_to_frame_end_after_step > 0 ? time_to_frame_end_after_step : kInf);
     t0 = Clock::now();
     m_forces.resize(shells_np1.size());
     for (size_t s = 0; s < shells_np1.size(); ++s)
       m_forces[s] = sdk::TriangleVectors::Zero(shells_np1[s].triangle_count(), 3);
-    m_fluid->coupling_forces(dt, shells_np1, m_forces);
+    const auto rescaled = with_rigid_accelerations_over_solid_step(shells_np1, dt_next / dt);
+    m_fluid->coupling_forces(dt, rescaled.empty() ? shells_np1 : rescaled, m_forces);
     m_forces_dt = dt;
     times.coupling_forces = seconds_since(t0);
 
     // Look ahead: solids n+1 -> n+2 under the coupling forces (§6).
     t0 = Clock::now();
-    const double dt_next =
-        limit_dt(std::min(solids_stable_dt(), m_fluid->stable_dt(m_limits.cfl)),
-                 time_to_frame_end_after_step > 0 ? time_to_frame_end_after_step : kInf);
     save_solids();
     advance_solids(m_time + dt, dt_next, impulse_matched_forces(dt_next));
     m_ahead_dt = dt_next;

@@ -3,10 +3,12 @@
 #include <spdlog/spdlog.h>
 #include <tiny_obj_loader.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <numbers>
 #include <sstream>
@@ -186,6 +188,134 @@ SurfaceMesh make_open_cylinder(double radius, double height, int segments, int r
     nodes.emplace_back(0.0, 0.0, 0.0);
     for (int s = 0; s < segments; ++s) triangles.push_back({centre, id(s + 1, 0), id(s, 0)});
   }
+  return to_mesh(nodes, triangles);
+}
+
+namespace {
+
+/// Triangles between two rows of `count` nodes each (first_a + k, first_b + k), or a pole
+/// (one node) for a row whose first is given with `a_pole`/`b_pole`; closed round (`ring`)
+/// or open (the row's ends are separate). Quads (k, a), (k+1, a), (k+1, b), (k, b) keep
+/// add_quad's orientation; a pole turns them into triangles.
+void add_band(std::vector<std::array<int, 3>>& triangles, int first_a, bool a_pole, int first_b,
+              bool b_pole, int count, bool ring, int parity) {
+  const int cells = ring ? count : count - 1;
+  for (int k = 0; k < cells; ++k) {
+    const int next = (k + 1) % count;
+    const int a0 = a_pole ? first_a : first_a + k, a1 = a_pole ? first_a : first_a + next;
+    const int b0 = b_pole ? first_b : first_b + k, b1 = b_pole ? first_b : first_b + next;
+    if (a_pole)
+      triangles.push_back({a0, b1, b0});
+    else if (b_pole)
+      triangles.push_back({a0, a1, b0});
+    else
+      add_quad(triangles, a0, a1, b1, b0, (k + parity) % 2 == 0);
+  }
+}
+
+}  // namespace
+
+SurfaceMesh make_revolution(const std::vector<Eigen::Vector2d>& profile, int segments, int rings) {
+  require(profile.size() >= 2, "make_revolution", "the profile needs at least two points");
+  require(segments >= 3, "make_revolution", "segments must be at least 3");
+  double length = 0.0, scale = 0.0;
+  for (size_t i = 0; i < profile.size(); ++i) {
+    require(profile[i].allFinite() && profile[i].x() >= 0.0, "make_revolution",
+            "profile point " + std::to_string(i) + " must be finite with r >= 0");
+    scale = std::max(scale, profile[i].cwiseAbs().maxCoeff());
+    if (i > 0) length += (profile[i] - profile[i - 1]).norm();
+  }
+  const double on_axis = 1e-12 * scale;
+  for (size_t i = 1; i < profile.size(); ++i) {
+    require((profile[i] - profile[i - 1]).norm() > on_axis, "make_revolution",
+            "profile points " + std::to_string(i - 1) + " and " + std::to_string(i) +
+                " coincide");
+    require(profile[i].x() > on_axis || profile[i - 1].x() > on_axis, "make_revolution",
+            "profile segment " + std::to_string(i - 1) + " lies on the axis (it sweeps no area)");
+  }
+  require(rings >= static_cast<int>(profile.size()) - 1, "make_revolution",
+          "rings must be at least the profile's segment count (" +
+              std::to_string(profile.size() - 1) + ")");
+  // Equal arc length cells, the profile's corners kept: each segment gets its share of
+  // `rings` (at least one), the remainders going to the largest fractions.
+  std::vector<int> cells(profile.size() - 1);
+  std::vector<std::pair<double, size_t>> remainder;
+  int used = 0;
+  for (size_t i = 0; i + 1 < profile.size(); ++i) {
+    const double share = rings * (profile[i + 1] - profile[i]).norm() / length;
+    cells[i] = std::max(1, static_cast<int>(std::floor(share)));
+    used += cells[i];
+    remainder.emplace_back(share - std::floor(share), i);
+  }
+  std::sort(remainder.begin(), remainder.end(), std::greater<>());
+  for (size_t k = 0; used < rings; k = (k + 1) % remainder.size(), ++used) ++cells[remainder[k].second];
+  std::vector<Eigen::Vector2d> points;
+  for (size_t i = 0; i + 1 < profile.size(); ++i)
+    for (int c = 0; c < cells[i]; ++c)
+      points.push_back(profile[i] + (profile[i + 1] - profile[i]) * (double(c) / cells[i]));
+  points.push_back(profile.back());
+
+  std::vector<Eigen::Vector3d> nodes;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<int> first(points.size());
+  std::vector<bool> pole(points.size());
+  for (size_t i = 0; i < points.size(); ++i) {
+    first[i] = static_cast<int>(nodes.size());
+    pole[i] = points[i].x() <= on_axis;
+    if (pole[i]) {
+      nodes.emplace_back(0.0, points[i].y(), 0.0);
+      continue;
+    }
+    // As make_open_cylinder: (r cos θ, y, −r sin θ) faces outwards for a profile going up.
+    for (int k = 0; k < segments; ++k) {
+      const double theta = 2.0 * std::numbers::pi * k / segments;
+      nodes.emplace_back(points[i].x() * std::cos(theta), points[i].y(),
+                         -points[i].x() * std::sin(theta));
+    }
+  }
+  for (size_t i = 0; i + 1 < points.size(); ++i)
+    add_band(triangles, first[i], pole[i], first[i + 1], pole[i + 1], segments, true,
+             static_cast<int>(i));
+  return to_mesh(nodes, triangles);
+}
+
+SurfaceMesh make_boat_hull(double length, double beam, double depth, double fullness,
+                           int stations, int sections) {
+  require(length > 0 && beam > 0 && depth > 0, "make_boat_hull",
+          "length, beam and depth must be positive");
+  require(fullness >= 1.0 && std::isfinite(fullness), "make_boat_hull",
+          "fullness must be at least 1 (2: round sections)");
+  require(stations >= 2, "make_boat_hull", "stations must be at least 2");
+  require(sections >= 2, "make_boat_hull", "sections must be at least 2");
+  // A superellipse's coordinate: sign(t) |t|^(2/n).
+  const auto shape = [fullness](double t) {
+    return std::copysign(std::pow(std::abs(t), 2.0 / fullness), t);
+  };
+  std::vector<Eigen::Vector3d> nodes;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<int> first(stations + 1);
+  // Station u = −1 (stern, −x) to +1 (bow); node (i, j) at angle φ_j from −π/2 (the −z
+  // gunwale) through 0 (the keel) to π/2: ∂/∂u × ∂/∂φ faces outwards.
+  for (int i = 0; i <= stations; ++i) {
+    first[i] = static_cast<int>(nodes.size());
+    const double u = -1.0 + 2.0 * i / stations;
+    const double x = 0.5 * length * u;
+    if (i == 0 || i == stations) {
+      nodes.emplace_back(x, 0.0, 0.0);  // bow and stern: the sections close to a point
+      continue;
+    }
+    const double half_beam = 0.5 * beam * std::sqrt(1.0 - u * u);
+    const double keel = depth * std::sqrt(1.0 - u * u * u * u);
+    for (int j = 0; j <= sections; ++j) {
+      const double phi = std::numbers::pi * (double(j) / sections - 0.5);
+      const bool gunwale = j == 0 || j == sections;  // exactly in y = 0 (cos(±π/2) is not)
+      nodes.emplace_back(x, gunwale ? 0.0 : -keel * shape(std::cos(phi)),
+                         gunwale ? (j == 0 ? -half_beam : half_beam) : half_beam * shape(std::sin(phi)));
+    }
+  }
+  // Rows in the order (i + 1, i): add_band's quads then face ∂/∂φ × −∂/∂u, outwards.
+  for (int i = 0; i < stations; ++i)
+    add_band(triangles, first[i + 1], i + 1 == stations, first[i], i == 0, sections + 1, false, i);
   return to_mesh(nodes, triangles);
 }
 
@@ -391,6 +521,33 @@ sdk::Schema mesh_schema() {
                      Schema::integer(8).min(1).max(kMaxNodesPerSide).doc("cells along the axis"))
               .field("bottom_cap",
                      Schema::boolean(true).doc("close the bottom with a triangle fan")))
+      .option("revolution",
+              Schema::object("surface of revolution about +y of a profile of [r, y] points "
+                             "(a goblet, a vase, a cup with a floor); a point with r = 0 is "
+                             "one node on the axis")
+                  .field("profile",
+                         Schema::array(Schema::number_list()).doc(
+                             "[[r, y], ...] from one end to the other, r >= 0 [m]; normals "
+                             "face right of the direction of travel (outwards going up)"))
+                  .field("segments",
+                         Schema::integer(64).min(3).max(kMaxNodesPerSide).doc("nodes around the axis"))
+                  .field("rings", Schema::integer(32).min(1).max(kMaxNodesPerSide).doc(
+                                      "cells along the profile, spread by arc length (at "
+                                      "least one per profile segment)")))
+      .option("boat_hull",
+              Schema::object("open canoe-like hull along x, its gunwale in the plane y = 0, "
+                             "keel below, pointed bow (+x) and stern; outward normals")
+                  .field("length", length(1.0, "from stern to bow"))
+                  .field("beam", length(0.3, "widest breadth, at mid-length"))
+                  .field("depth", length(0.15, "keel below the gunwale, at mid-length"))
+                  .field("fullness",
+                         Schema::number(3.0).min(1.0).doc(
+                             "section superellipse exponent: 2 round, larger a flatter "
+                             "bottom and fuller sides"))
+                  .field("stations",
+                         Schema::integer(48).min(2).max(kMaxNodesPerSide).doc("cells along the length"))
+                  .field("sections", Schema::integer(24).min(2).max(kMaxNodesPerSide).doc(
+                                         "cells round each section, gunwale to gunwale")))
       .option("sphere",
               Schema::object("icosphere centred at the origin, outward normals")
                   .field("radius", length(0.5, "radius"))
@@ -406,13 +563,13 @@ SurfaceMesh make_mesh(const nlohmann::json& spec, const std::string& json_path) 
   if (!spec.is_object() || !spec.contains("type") || !spec.at("type").is_string())
     throw ConfigError(json_path + "/type",
                       "a mesh needs a \"type\": grid, box, open_box, "
-                      "open_cylinder, sphere or obj");
+                      "open_cylinder, revolution, boat_hull, sphere or obj");
   const auto type = spec.at("type").get<std::string>();
   static const SchemaJson options = mesh_schema().json().at("options");
   if (!options.contains(type))
     throw ConfigError(json_path + "/type", "unknown mesh type \"" + type +
                                                "\"; use grid, box, open_box, open_cylinder, "
-                                               "sphere or obj");
+                                               "revolution, boat_hull, sphere or obj");
   // Defaults come from the one place they are declared: the schema.
   const auto& fields = options.at(type).at("fields");
   auto positive_size = [&]() {
@@ -443,6 +600,34 @@ SurfaceMesh make_mesh(const nlohmann::json& spec, const std::string& json_path) 
         field<double>(spec, fields, "radius"), field<double>(spec, fields, "height"),
         field<int>(spec, fields, "segments"), field<int>(spec, fields, "rings"),
         field<bool>(spec, fields, "bottom_cap"));
+  if (type == "revolution") {
+    const auto& points = spec.contains("profile") ? spec.at("profile") : Json();
+    if (!points.is_array() || points.size() < 2)
+      throw ConfigError(json_path + "/profile",
+                        "a revolution needs \"profile\": at least two [r, y] points");
+    std::vector<Eigen::Vector2d> profile;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const std::string at = json_path + "/profile/" + std::to_string(i);
+      if (!points[i].is_array() || points[i].size() != 2 || !points[i][0].is_number() ||
+          !points[i][1].is_number())
+        throw ConfigError(at, "expected [r, y], two numbers");
+      profile.emplace_back(points[i][0].get<double>(), points[i][1].get<double>());
+      if (!(profile.back().x() >= 0.0))
+        throw ConfigError(at, "r is the distance from the axis: it must be >= 0");
+      if (i > 0 && profile[i] == profile[i - 1])
+        throw ConfigError(at, "this point repeats the one before it; remove one");
+    }
+    try {
+      return make_revolution(profile, field<int>(spec, fields, "segments"),
+                             field<int>(spec, fields, "rings"));
+    } catch (const std::invalid_argument& e) {
+      throw ConfigError(json_path, e.what());
+    }
+  }
+  if (type == "boat_hull")
+    return make_boat_hull(field<double>(spec, fields, "length"), field<double>(spec, fields, "beam"),
+                          field<double>(spec, fields, "depth"), field<double>(spec, fields, "fullness"),
+                          field<int>(spec, fields, "stations"), field<int>(spec, fields, "sections"));
   if (type == "sphere")
     return make_sphere(field<double>(spec, fields, "radius"),
                        field<int>(spec, fields, "subdivisions"));

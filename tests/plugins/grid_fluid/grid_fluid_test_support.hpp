@@ -77,6 +77,7 @@ class TranslatingShell final : public sdk::SolidSolver {
     m_force = forces.empty() || forces[0].rows() == 0
                   ? Eigen::Vector3d::Zero()
                   : Eigen::Vector3d(forces[0].colwise().sum().transpose());
+    m_forces = forces.empty() ? sdk::TriangleVectors() : forces[0];
     if (!m_held) {
       m_velocity += dt * (m_force[m_axis] / m_mass + m_gravity);
       m_offset += dt * m_velocity;
@@ -105,6 +106,19 @@ class TranslatingShell final : public sdk::SolidSolver {
   double velocity() const { return m_velocity; }
   /// Σ of the triangle forces of the last advance() [N].
   const Eigen::Vector3d& force() const { return m_force; }
+  /// Σ (c_t − point) × F_t of the last advance(), c_t the triangles' barycentres [N m].
+  Eigen::Vector3d moment_about(const Eigen::Vector3d& point) const {
+    Eigen::Vector3d m = Eigen::Vector3d::Zero();
+    const auto& T = *m_surface.triangles;
+    for (int t = 0; t < m_forces.rows(); ++t) {
+      const Eigen::Vector3d c = (m_surface.positions.row(T(t, 0)) + m_surface.positions.row(T(t, 1)) +
+                                 m_surface.positions.row(T(t, 2)))
+                                    .transpose() /
+                                3.0;
+      m += (c - point).cross(Eigen::Vector3d(m_forces.row(t).transpose()));
+    }
+    return m;
+  }
 
  private:
   sdk::ShellSurface m_surface;
@@ -112,6 +126,7 @@ class TranslatingShell final : public sdk::SolidSolver {
   int m_axis;
   double m_gravity;
   bool m_held;
+  sdk::TriangleVectors m_forces;
   double m_mass = 0.0;
   double m_velocity = 0.0;
   double m_offset = 0.0;

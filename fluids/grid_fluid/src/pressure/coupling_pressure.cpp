@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "shellflow/geometry/gauss_jacobi_refill.hpp"
+#include "shellflow/grid_fluid/pressure/rigid_face_areas.hpp"
 #include "shellflow/linear/constant_null_space.hpp"
 #include "shellflow/linear/preconditioned_cg.hpp"
 #include "shellflow/sdk/error.hpp"
@@ -40,9 +41,6 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary, const Shel
     body.inverse_mass.bottomRightCorner<3, 3>() = r.inverse_inertia;
     body.centre_of_mass = r.centre_of_mass;
     body.acceleration = r.acceleration;
-    // Faces are only taken between two cells: the centres' box bounds what they see.
-    const Eigen::Vector3d lo = m_grid.origin().array() + 0.5 * m_grid.dx();
-    const Eigen::Vector3d hi = m_grid.upper().array() - 0.5 * m_grid.dx();
     const auto& T = *set[i].triangles;
     const auto& x = set[i].positions;
     const int count = set[i].triangle_count();
@@ -56,8 +54,6 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary, const Shel
       const Eigen::Vector3d centre = (p0 + p1 + p2) / 3.0;
       body.triangle_area[t] = area.norm();
       body.triangle_centre[t] = centre;
-      if ((centre.array() < lo.array()).any() || (centre.array() > hi.array()).any()) continue;
-      body.projected_area += area.cwiseAbs();
     }
   }
   const double dx = m_grid.dx();
@@ -96,7 +92,7 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary, const Shel
         }
         beta = m_settings.fluid_density * dx / sigma;  // ρ / ρ_face with ρ_face = σ Δx²/Δx³
       }
-      found[omp_get_thread_num()].push_back({a, f, velocity, beta, hit->s, body});
+      found[omp_get_thread_num()].push_back({a, f, velocity, beta, hit->s, body, hit->triangle});
     }
     if (bad_density)
       throw Error(
@@ -117,6 +113,55 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary, const Shel
         ++stats.coupled_faces;
         if (sf.body >= 0) ++stats.rigid_faces;
       }
+    }
+  }
+  if (!m_bodies.empty()) assign_rigid_face_areas(set);
+}
+
+void CouplingPressure::assign_rigid_face_areas(sdk::ShellSet set) {
+  const double dx = m_grid.dx();
+  if (m_surface == nullptr) {
+    // Smoke: a face stands for Δx² across its axis at its centre and moves with the shell
+    // there, as the projection's Neumann face will (§4.3). Faces standing for their pieces
+    // (below) disagree with the projection on how the fluid moves wherever a face's pieces
+    // are not Δx², and that pumped energy into a closed box of air (+55 %) where nothing
+    // else loads the body.
+    for (ShellFace& sf : m_shell_faces) {
+      if (sf.body < 0) continue;
+      const Eigen::Vector3d e = Eigen::Vector3d::Unit(sf.axis);
+      const Eigen::Vector3d r = m_grid.position(face_location(sf.axis),
+                                                m_grid.coordinates(face_location(sf.axis), sf.face)) -
+                                m_bodies[sf.body].centre_of_mass;
+      sf.row << e, r.cross(e);
+      sf.flux = sf.velocity;
+    }
+    return;
+  }
+  // Water: the hydrostatic load is what floats a hull, and it is exact only when each face
+  // stands for the pieces of shell it samples (Archimedes to 0.001 Δx, the righting moment
+  // at any heel; rigid_face_areas.hpp).
+  for (size_t shell = 0; shell < set.size(); ++shell) {
+    const int body = m_body_of_shell[shell];
+    if (body < 0) continue;
+    std::vector<size_t> faces;
+    std::vector<RigidFaceCut> cuts;
+    for (size_t k = 0; k < m_shell_faces.size(); ++k) {
+      const ShellFace& sf = m_shell_faces[k];
+      if (sf.body != body) continue;
+      RigidFaceCut& cut = cuts.emplace_back();
+      cut.axis = sf.axis;
+      cut.face = m_grid.coordinates(face_location(sf.axis), sf.face);
+      cut.crossing = m_grid.position(face_location(sf.axis), cut.face)[sf.axis] + (sf.s - 0.5) * dx;
+      cut.triangle = sf.triangle;
+      faces.push_back(k);
+    }
+    const auto pieces =
+        rigid_face_pieces(m_grid, set[shell], m_bodies[body].centre_of_mass, cuts);
+    for (size_t i = 0; i < faces.size(); ++i) {
+      ShellFace& sf = m_shell_faces[faces[i]];
+      sf.row << pieces[i].vector_area, pieces[i].moment;
+      sf.row /= dx * dx;
+      sf.flux = pieces[i].flux / (dx * dx);
     }
   }
 }
@@ -154,13 +199,16 @@ void CouplingPressure::solve(Eigen::VectorXd& b, double dt, const DomainBoundary
   }
   for (const ShellFace& sf : m_shell_faces)
     if (sf.two_way()) m_laplacian.weights(sf.axis)[sf.face] = sf.body >= 0 ? 0.0 : sf.beta;
-  if (m_surface != nullptr) add_free_surface(b);
+  if (m_surface != nullptr) {
+    add_free_surface(b);
+    if (!m_bodies.empty()) drop_sealed_cells(b);
+  }
   build_jumps();
-  // −Kᵀ V*: the rigid faces' velocities without the fluid (their gravity over the step in).
+  // −Kᵀ V*: the flux of the rigid faces without the fluid (their gravity over the step in).
   for (size_t k = 0; k < m_shell_faces.size(); ++k) {
     const ShellFace& sf = m_shell_faces[k];
     if (sf.body >= 0)
-      m_jumps[k].scatter(sf.velocity + dt * m_bodies[sf.body].acceleration[sf.axis], b);
+      m_jumps[k].scatter(sf.flux + dt * sf.row.head<3>().dot(m_bodies[sf.body].acceleration), b);
   }
   label_regions(boundary, stats);
   const linear::ConstantNullSpace null_space = m_regions.null_space();
@@ -188,6 +236,28 @@ void CouplingPressure::solve(Eigen::VectorXd& b, double dt, const DomainBoundary
   stats.relative_residual = result.relative_residual;
   stats.converged = result.converged;
   std::copy(x.data(), x.data() + cells, m_scaled.begin());
+}
+
+void CouplingPressure::drop_sealed_cells(Eigen::VectorXd& b) {
+  const auto& dirichlet = m_laplacian.dirichlet();
+  for (const ShellFace& sf : m_shell_faces) {
+    if (sf.body < 0) continue;
+    Eigen::Vector3i c = m_grid.coordinates(face_location(sf.axis), sf.face);
+    for (int side = 0; side < 2; ++side, c[sf.axis] -= 1) {
+      const std::int64_t cell = m_grid.index(Location::Cell, c);
+      if (air(cell) || dirichlet[cell] != 0.0) continue;
+      bool linked = false;
+      for (int a = 0; a < 3 && !linked; ++a) {
+        Eigen::Vector3i f = c;
+        for (int step = 0; step < 2 && !linked; ++step, f[a] += 1)
+          linked = m_laplacian.weights(a)[m_grid.index(face_location(a), f)] != 0.0;
+      }
+      if (linked) continue;
+      m_liquid[cell] = 0;
+      b[cell] = 0.0;
+      m_scaled[cell] = 0.0;
+    }
+  }
 }
 
 void CouplingPressure::label_regions(const DomainBoundary& boundary, const CouplingStats& stats) {
@@ -310,13 +380,6 @@ void CouplingPressure::add_side_at_shell(FaceJump& jump, std::int64_t cell, int 
 }
 
 void CouplingPressure::build_jumps() {
-  // The faces of axis a stand for the body's area projected on a (RigidShellFaces).
-  std::vector<Eigen::Vector3d> area_scale(m_bodies.size(), Eigen::Vector3d::Zero());
-  for (const ShellFace& sf : m_shell_faces)
-    if (sf.body >= 0) area_scale[sf.body][sf.axis] += m_grid.dx() * m_grid.dx();
-  for (size_t i = 0; i < m_bodies.size(); ++i)
-    for (int a = 0; a < 3; ++a)
-      if (area_scale[i][a] > 0.0) area_scale[i][a] = m_bodies[i].projected_area[a] / area_scale[i][a];
   m_jumps.assign(m_shell_faces.size(), FaceJump{});
   for (size_t k = 0; k < m_shell_faces.size(); ++k) {
     const ShellFace& sf = m_shell_faces[k];
@@ -336,15 +399,9 @@ void CouplingPressure::build_jumps() {
       add_side_at_shell(jump, minus, a, -1, sf.s, -1.0);
     }
     if (sf.body < 0) continue;
-    // J_fᵀ = [e_a; r × e_a], r from the centre of mass to the face centre (the hit point
-    // differs from it only along e_a, which r × e_a does not see).
     RigidShellFaces& body = m_bodies[sf.body];
-    const Eigen::Vector3d r = m_grid.position(face_location(a), ijk) - body.centre_of_mass;
-    const Eigen::Vector3d e = Eigen::Vector3d::Unit(a);
-    BodyVector row;
-    row << e, r.cross(e);
     body.jumps.push_back(jump);
-    body.rows.push_back(area_scale[sf.body][a] * row);
+    body.rows.push_back(sf.row);
   }
 }
 

@@ -56,6 +56,20 @@ SurfaceMesh make_open_box(const Eigen::Vector3d& size, int divisions);
 SurfaceMesh make_open_cylinder(double radius, double height, int segments, int rings,
                                bool bottom_cap);
 SurfaceMesh make_sphere(double radius, int subdivisions);
+/// The surface swept by turning a profile polyline of (r, y) points (r ≥ 0, its distance
+/// from the y axis) about +y: a goblet, a vase or a cup. The profile is resampled to
+/// `rings` cells of equal arc length, its corners kept; `segments` nodes go round. A profile
+/// point on the axis (r = 0) is one node: at an end it closes the surface (a cup's floor),
+/// inside it joins two sheets there (a goblet's stem to its bowl). Normals face the side
+/// to the right of the profile's direction (outwards for a profile going up the outside).
+SurfaceMesh make_revolution(const std::vector<Eigen::Vector2d>& profile, int segments, int rings);
+/// An open canoe-like hull along x, its gunwale (the open rim) in the plane y = 0 and its
+/// keel below: half-beam b(u) = beam/2 · (1 − u²)^½ and depth d(u) = depth · (1 − u⁴)^½ at
+/// station u = 2x/length ∈ [−1, 1], each section a superellipse of exponent `fullness`
+/// (2: round, larger: flatter bottom and fuller sides), closing to a point at bow and stern.
+/// `stations` cells along the length, `sections` cells round each section; outward normals.
+SurfaceMesh make_boat_hull(double length, double beam, double depth, double fullness,
+                           int stations, int sections);
 /// Reads an OBJ file (tinyobjloader), triangulating polygons and dropping the vertices no
 /// face uses (counted in the result's `origin` for check_mesh()). Throws IoError naming the
 /// file, and the line and vertex for a coordinate that is not a finite number (tinyobjloader

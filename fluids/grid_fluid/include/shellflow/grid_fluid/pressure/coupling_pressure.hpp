@@ -108,10 +108,18 @@ class CouplingPressure {
     double beta;
     double s;  ///< where the shell cuts the segment between the cell centres, 0 at the − cell
     int body;  ///< a rigid shell's face: its index in m_bodies (β unused); else −1
+    int triangle;  ///< of the shell, where the segment meets it
+    /// A rigid shell's face: J_fᵀ and the flux it carries per Δx² (water: [N_f; M_f]/Δx²
+    /// and Φ_f/Δx² of the pieces of shell it stands for, rigid_face_areas.hpp; smoke:
+    /// [e_a; r × e_a] at its centre and the shell's velocity along a there).
+    BodyVector row = BodyVector::Zero();
+    double flux = 0.0;
     bool two_way() const { return beta > 0.0 || body >= 0; }
   };
   void classify_faces(const DomainBoundary& boundary, const ShellGeometry& shells,
                       const geometry::ShellBand& band, sdk::ShellSet set, CouplingStats& stats);
+  /// Each rigid body's faces get their rows J_f and fluxes (ShellFace::row).
+  void assign_rigid_face_areas(sdk::ShellSet set);
   Eigen::VectorXd right_hand_side(const MacGrid& mac) const;
   void solve(Eigen::VectorXd& b, double dt, const DomainBoundary& boundary, CouplingStats& stats);
   /// The fluid regions and which are enclosed (their constants: the operator's null space).
@@ -121,6 +129,10 @@ class CouplingPressure {
   /// Water: faces touching air leave the Laplacian, the liquid cell's side becomes a
   /// Dirichlet conductance (weight × 1/θ), and the air rows are emptied (b = 0, guess q = 0).
   void add_free_surface(Eigen::VectorXd& b);
+  /// Water with rigid bodies: a liquid cell that no face of L reaches (a sliver of water
+  /// sealed in a hull's corner by its faces, which the body alone would join) is left out
+  /// as air: a cell the V-cycle cannot see stalled CG, and its volume is below a cell's.
+  void drop_sealed_cells(Eigen::VectorXd& b);
   bool air(std::int64_t cell) const { return m_surface != nullptr && m_liquid[cell] == 0; }
   void jumps_to_nodes(double to_pressure, CouplingStats& stats);
   /// Water: adds `sign` × q of `cell` extrapolated by `reach` cells (its distance to the

@@ -64,14 +64,11 @@ struct RigidShellFaces {
   Eigen::Matrix<double, 6, 6> inverse_mass = Eigen::Matrix<double, 6, 6>::Zero();  ///< 𝓜⁻¹
   Eigen::Vector3d centre_of_mass = Eigen::Vector3d::Zero();  ///< [m]
   Eigen::Vector3d acceleration = Eigen::Vector3d::Zero();    ///< without the fluid [m/s²]
-  /// Σ_t A_t |n_a| over its triangles inside the grid: the area the faces of axis a
-  /// stand for. The grid counts whole faces (a staircase: 2 % off for a 0.4 m square at
-  /// 48³); each J_f of axis a is scaled so that Σ_f Δx² J_f has the shell's true area.
-  Eigen::Vector3d projected_area = Eigen::Vector3d::Zero();
   std::vector<double> triangle_area;              ///< per triangle [m²]
   std::vector<Eigen::Vector3d> triangle_centre;   ///< per triangle: its barycentre [m]
   std::vector<FaceJump> jumps;       ///< per face
-  std::vector<BodyVector> rows;      ///< J_fᵀ per face (area-scaled)
+  /// J_fᵀ per face, scaled by the shell area it stands for over Δx² (rigid_face_areas.hpp)
+  std::vector<BodyVector> rows;
   /// K q = −Σ_f J_fᵀ [q]_f.
   BodyVector impulse(const Eigen::Ref<const Eigen::VectorXd>& q) const;
   /// y += Kᵀ w = −Σ_f (J_f w) ∂[q]_f/∂q: the transpose of impulse().
