@@ -143,6 +143,53 @@ TEST_F(TwoWayScenes, ClosedBoxWithClothAndRigidShellLosesEnergyAndReportsMomentu
   EXPECT_LE(e_max, e0 * 1.01);
 }
 
+TEST_F(TwoWayScenes, OpenBoatFloatsUntilAStreamFillsItThenSinksToTheFloor) {
+  // Fig. 7 at test size: a Bullet boat_hull (0.6 m long, 0.3 m in the beam, 0.12 m deep,
+  // 20 kg/m², 5 kg) dropped into 0.3 m of water floats on nothing but the §5.1 pressure
+  // (its hull keeps the air out), and a stream from t = 0.5 s fills it: full of water it
+  // weighs its own 5 kg more than the water around, and goes down to the ground plane.
+  const auto file = write("boat.json", R"({
+    "gravity": [0, -9.81, 0], "time": {"fps": 24, "frames": 72, "cfl": 0.9},
+    "fluid": {"plugin": "grid_fluid", "name": "water", "resolution": 32,
+      "water": {"initial": [{"type": "pool", "height": 0.3}],
+        "sources": [{"shape": "cylinder", "from": [0.55, 0.9, 0.5], "to": [0.55, 1.0, 0.5],
+                     "radius": 0.06, "velocity": [0, -1, 0], "start": 0.5}]}},
+    "solids": [{"plugin": "bullet_rigid", "name": "boat",
+      "bodies": [{"name": "hull",
+        "mesh": {"type": "boat_hull", "length": 0.6, "beam": 0.3, "depth": 0.12,
+                 "stations": 24, "sections": 12},
+        "transform": {"translate": [0.5, 0.44, 0.5]}, "surface_density": 20.0}],
+      "ground": {"height": 0.0}}]})");
+  SceneRun run(file);
+  const auto extent = [&] {
+    const auto& x = run.loop->shells()[0].positions;
+    return std::pair{x.col(1).minCoeff(), x.col(1).maxCoeff()};
+  };
+  double lowest_afloat = 1.0, highest_gunwale = 0.0;
+  while (run.loop->time() < 3.0) {
+    run.loop->step(run.loop->next_dt(1e9), 1e9);
+    const auto [keel, gunwale] = extent();
+    // Afloat: from when the splash of the drop has settled to when the stream lands.
+    if (run.loop->time() > 0.3 && run.loop->time() < 0.7) {
+      lowest_afloat = std::min(lowest_afloat, keel);
+      highest_gunwale = std::max(highest_gunwale, gunwale);
+    }
+  }
+  const auto [keel, gunwale] = extent();
+  std::printf("boat: afloat keel >= %.3f m, gunwale <= %.3f m (water at 0.3 m); at 3 s keel %.4f m, "
+              "gunwale %.3f m\n",
+              lowest_afloat, highest_gunwale, keel, gunwale);
+  // Afloat its keel is far above the floor and its gunwale above the water (measured: the
+  // keel no lower than 0.196 m, 10 cm under the water at the bottom of its first bob, of
+  // its 12 cm of depth; a hull the water did not hold up would lie on the floor by then).
+  EXPECT_GT(lowest_afloat, 0.15);
+  EXPECT_GT(highest_gunwale, 0.3);
+  // On the floor at the end: Bullet keeps the hull its collision margin (5 mm) above the
+  // ground; Δx/4 more for the contact's settling. And all of it under water.
+  EXPECT_LT(keel, 0.005 + 0.25 / 32.0);
+  EXPECT_LT(gunwale, 0.3);
+}
+
 TEST_F(TwoWayScenes, ClothDensitySweepInAStreamStaysFinite) {
   // The issue's stress sweep on cloth: a curtain pinned along its top edge in a 2 m/s
   // stream, σ from 1000× lighter to 1000× heavier than ρΔx (the fluid mass per unit area of
