@@ -242,5 +242,34 @@ TEST(WaterCoupling, FreeBoxFloatsAtTheDraftItsMassImplies) {
   EXPECT_LE(last_speed, 0.01 * std::sqrt(kG * dx));
 }
 
+TEST(WaterCoupling, FreeBoxIsStableOverTheDensitySweep) {
+  // The smoke coupling's sweep in water: the open box free to heave, σ from 10⁻³ to 10³ times
+  // ρΔx (the water's mass per unit area of one cell layer, 31.25 kg/m² here), at CFL 0.5 and
+  // 2 with the step up to 0.02 s, over 0.25 s, released a cell above the draft of 37.5 kg/m²: the light ones
+  // pop up and float, the heavy ones fall. Bound: finite, and no faster than a free fall
+  // from rest over the run plus √(gΔx) (a body the water does not hold up).
+  const double bottom = kPool - 0.15 + kDx;
+  const double rho_dx = kRho * kDx;
+  for (const double cfl : {0.5, 2.0}) {
+    std::printf("CFL %.1f, max |v| [m/s] for σ/ρΔx = 1e-3 .. 1e3:", cfl);
+    for (int e = -3; e <= 3; ++e) {
+      const double sigma = rho_dx * std::pow(10.0, e);
+      auto fluid = test::make_fluid(tank(bottom));
+      test::TranslatingShell box(make_box(bottom, sigma), 1, -kG, /*held=*/false);
+      coupling::CouplingLoop loop(fluid.get(), {&box}, {cfl, 0.02});
+      loop.start(0.0, kForever);
+      double fastest = 0.0;
+      while (loop.time() < 0.25) {
+        loop.step(loop.next_dt(kForever), kForever);
+        ASSERT_TRUE(std::isfinite(box.velocity())) << "σ = " << sigma << ", CFL " << cfl;
+        fastest = std::max(fastest, std::abs(box.velocity()));
+      }
+      std::printf(" %.3f", fastest);
+      EXPECT_LE(fastest, kG * 0.25 + std::sqrt(kG * kDx)) << "σ = " << sigma << ", CFL " << cfl;
+    }
+    std::printf("\n");
+  }
+}
+
 }  // namespace
 }  // namespace shellflow::grid_fluid
