@@ -33,7 +33,10 @@ Polygon clip(const Polygon& in, int axis, double plane, double sign) {
   return out;
 }
 
-std::int64_t column_key(int b, int c) { return (static_cast<std::int64_t>(b) << 32) | c; }
+std::int64_t column_key(int b, int c) {
+  return static_cast<std::int64_t>((static_cast<std::uint64_t>(static_cast<std::uint32_t>(b)) << 32) |
+                                   static_cast<std::uint32_t>(c));
+}
 
 constexpr double kSameSheet = 0.7071;  // cos 45°
 
