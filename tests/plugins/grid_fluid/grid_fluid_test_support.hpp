@@ -74,12 +74,9 @@ class TranslatingShell final : public sdk::SolidSolver {
   }
   std::span<const sdk::ShellSurface> surfaces() const override { return {&m_surface, 1}; }
   void advance(double, double dt, std::span<const sdk::TriangleVectors> forces) override {
-    m_force = forces.empty() || forces[0].rows() == 0
-                  ? Eigen::Vector3d::Zero()
-                  : Eigen::Vector3d(forces[0].colwise().sum().transpose());
     m_forces = forces.empty() ? sdk::TriangleVectors() : forces[0];
     if (!m_held) {
-      m_velocity += dt * (m_force[m_axis] / m_mass + m_gravity);
+      m_velocity += dt * (force()[m_axis] / m_mass + m_gravity);
       m_offset += dt * m_velocity;
     }
     m_surface.positions = m_rest;
@@ -105,7 +102,10 @@ class TranslatingShell final : public sdk::SolidSolver {
   double offset() const { return m_offset; }
   double velocity() const { return m_velocity; }
   /// Σ of the triangle forces of the last advance() [N].
-  const Eigen::Vector3d& force() const { return m_force; }
+  Eigen::Vector3d force() const {
+    return m_forces.rows() == 0 ? Eigen::Vector3d::Zero()
+                                : Eigen::Vector3d(m_forces.colwise().sum().transpose());
+  }
   /// Σ (c_t − point) × F_t of the last advance(), c_t the triangles' barycentres [N m].
   Eigen::Vector3d moment_about(const Eigen::Vector3d& point) const {
     Eigen::Vector3d m = Eigen::Vector3d::Zero();
@@ -130,7 +130,6 @@ class TranslatingShell final : public sdk::SolidSolver {
   double m_mass = 0.0;
   double m_velocity = 0.0;
   double m_offset = 0.0;
-  Eigen::Vector3d m_force = Eigen::Vector3d::Zero();
 };
 
 /// Height of a water scene's surface on the vertical node line through (x, z): where φ

@@ -140,25 +140,26 @@ void CouplingPressure::assign_rigid_face_areas(sdk::ShellSet set) {
   // Water: the hydrostatic load is what floats a hull, and it is exact only when each face
   // stands for the pieces of shell it samples (Archimedes to 0.001 Δx, the righting moment
   // at any heel; rigid_face_areas.hpp).
+  // Each body's cuts, in one pass over the faces.
+  std::vector<std::vector<size_t>> faces(m_bodies.size());
+  std::vector<std::vector<RigidFaceCut>> cuts(m_bodies.size());
+  for (size_t k = 0; k < m_shell_faces.size(); ++k) {
+    const ShellFace& sf = m_shell_faces[k];
+    if (sf.body < 0) continue;
+    RigidFaceCut& cut = cuts[sf.body].emplace_back();
+    cut.axis = sf.axis;
+    cut.face = m_grid.coordinates(face_location(sf.axis), sf.face);
+    cut.crossing = m_grid.position(face_location(sf.axis), cut.face)[sf.axis] + (sf.s - 0.5) * dx;
+    cut.triangle = sf.triangle;
+    faces[sf.body].push_back(k);
+  }
   for (size_t shell = 0; shell < set.size(); ++shell) {
     const int body = m_body_of_shell[shell];
     if (body < 0) continue;
-    std::vector<size_t> faces;
-    std::vector<RigidFaceCut> cuts;
-    for (size_t k = 0; k < m_shell_faces.size(); ++k) {
-      const ShellFace& sf = m_shell_faces[k];
-      if (sf.body != body) continue;
-      RigidFaceCut& cut = cuts.emplace_back();
-      cut.axis = sf.axis;
-      cut.face = m_grid.coordinates(face_location(sf.axis), sf.face);
-      cut.crossing = m_grid.position(face_location(sf.axis), cut.face)[sf.axis] + (sf.s - 0.5) * dx;
-      cut.triangle = sf.triangle;
-      faces.push_back(k);
-    }
     const auto pieces =
-        rigid_face_pieces(m_grid, set[shell], m_bodies[body].centre_of_mass, cuts);
-    for (size_t i = 0; i < faces.size(); ++i) {
-      ShellFace& sf = m_shell_faces[faces[i]];
+        rigid_face_pieces(m_grid, set[shell], m_bodies[body].centre_of_mass, cuts[body]);
+    for (size_t i = 0; i < faces[body].size(); ++i) {
+      ShellFace& sf = m_shell_faces[faces[body][i]];
       sf.row << pieces[i].vector_area, pieces[i].moment;
       sf.row /= dx * dx;
       sf.flux = pieces[i].flux / (dx * dx);
