@@ -11,11 +11,17 @@ set(SHELLFLOW_PLUGIN_OUTPUT_DIR ${PROJECT_BINARY_DIR}/lib/shellflow/plugins)
 set(SHELLFLOW_PLUGIN_INSTALL_DIR lib/shellflow/plugins)
 
 # The "Sanitize" build type: AddressSanitizer + UndefinedBehaviorSanitizer.
-set(CMAKE_CXX_FLAGS_SANITIZE "-O1 -g -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined"
+# SHELLFLOW_SANITIZE_COMPILE/LINK_OPTIONS are also what an installed Sanitize build hands
+# to plugins built against it (framework/CMakeLists.txt, shellflow::sdk).
+set(SHELLFLOW_SANITIZE_COMPILE_OPTIONS
+    -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined)
+set(SHELLFLOW_SANITIZE_LINK_OPTIONS -fsanitize=address,undefined)
+list(JOIN SHELLFLOW_SANITIZE_COMPILE_OPTIONS " " _sanitize_compile_flags)
+set(CMAKE_CXX_FLAGS_SANITIZE "-O1 -g ${_sanitize_compile_flags}"
     CACHE STRING "Flags for the Sanitize build type" FORCE)
-set(CMAKE_EXE_LINKER_FLAGS_SANITIZE "-fsanitize=address,undefined" CACHE STRING "" FORCE)
-set(CMAKE_SHARED_LINKER_FLAGS_SANITIZE "-fsanitize=address,undefined" CACHE STRING "" FORCE)
-set(CMAKE_MODULE_LINKER_FLAGS_SANITIZE "-fsanitize=address,undefined" CACHE STRING "" FORCE)
+set(CMAKE_EXE_LINKER_FLAGS_SANITIZE "${SHELLFLOW_SANITIZE_LINK_OPTIONS}" CACHE STRING "" FORCE)
+set(CMAKE_SHARED_LINKER_FLAGS_SANITIZE "${SHELLFLOW_SANITIZE_LINK_OPTIONS}" CACHE STRING "" FORCE)
+set(CMAKE_MODULE_LINKER_FLAGS_SANITIZE "${SHELLFLOW_SANITIZE_LINK_OPTIONS}" CACHE STRING "" FORCE)
 
 # shellflow_target_defaults(<target>): warnings on every target we own.
 function(shellflow_target_defaults target)

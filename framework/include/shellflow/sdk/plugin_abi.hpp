@@ -9,7 +9,7 @@
 //  - struct_size must be at least the size of the fields of that minor version;
 //  - build_signature must equal the runtime's: C++ classes (vtables, std::string,
 //    Eigen matrices) cross the boundary, so compiler, standard library, SDK and Eigen
-//    versions must agree.
+//    versions, and whether AddressSanitizer is on, must agree.
 
 #include <cstddef>
 #include <cstdint>
@@ -21,11 +21,26 @@
 #define SHELLFLOW_STRINGIFY_IMPL(x) #x
 #define SHELLFLOW_STRINGIFY(x) SHELLFLOW_STRINGIFY_IMPL(x)
 
-/// Compiler, standard library, SDK ABI and Eigen version, as one string.
+/// Compiler, standard library, SDK ABI, Eigen version and AddressSanitizer, as one string.
 #define SHELLFLOW_BUILD_SIGNATURE                                                      \
   "abi " SHELLFLOW_STRINGIFY(SHELLFLOW_ABI_MAJOR) "." SHELLFLOW_STRINGIFY(             \
       SHELLFLOW_ABI_MINOR) "; " SHELLFLOW_COMPILER_ID "; libstdc++ " SHELLFLOW_STRINGIFY( \
-      __GLIBCXX__) "; eigen " SHELLFLOW_STRINGIFY(EIGEN_WORLD_VERSION) "." SHELLFLOW_STRINGIFY(EIGEN_MAJOR_VERSION) "." SHELLFLOW_STRINGIFY(EIGEN_MINOR_VERSION) "; cxx " SHELLFLOW_STRINGIFY(__cplusplus)
+      __GLIBCXX__) "; eigen " SHELLFLOW_STRINGIFY(EIGEN_WORLD_VERSION) "." SHELLFLOW_STRINGIFY(EIGEN_MAJOR_VERSION) "." SHELLFLOW_STRINGIFY(EIGEN_MINOR_VERSION) "; cxx " SHELLFLOW_STRINGIFY(__cplusplus) SHELLFLOW_SANITIZER_ID
+
+// AddressSanitizer is part of the signature: under it Eigen allocates a matrix with its own
+// aligned malloc rather than malloc, so a matrix made on one side and freed on the other
+// would be a bad free. A plugin for a Sanitize build is built with the same flags (the
+// installed shellflow::sdk target passes them on).
+#if defined(__SANITIZE_ADDRESS__)
+#define SHELLFLOW_SANITIZER_ID "; asan"
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define SHELLFLOW_SANITIZER_ID "; asan"
+#endif
+#endif
+#ifndef SHELLFLOW_SANITIZER_ID
+#define SHELLFLOW_SANITIZER_ID ""
+#endif
 
 #if defined(__clang__)
 #define SHELLFLOW_COMPILER_ID "clang " __clang_version__
