@@ -249,6 +249,35 @@ std::vector<ErrorMeasure> make_registry() {
                                            p["wavelength"], gravity_of(run));
        }});
   r.push_back(
+      {"archimedes_draft",
+       "a floating body's draft against Archimedes' d = M/(ρ A): the mean over the last "
+       "\"window\" seconds of the water level beside it minus its lowest point, |d_mean − d| / d",
+       "analytic: Archimedes, d = M/(ρ A)", "1",
+       Schema::object("")
+           .field("level", Schema::string().doc("the column of the water's surface height beside "
+                                                "the body, e.g. a vertical water_extent probe's "
+                                                "water.level.extent (its segment from y = 0)"))
+           .field("lowest", Schema::string().doc("the column of the body's lowest point, e.g. "
+                                                 "bullet_rigid's shells.box.lowest"))
+           .field("draft", Schema::number().min(0.0, false).unit("m").doc(
+                               "d = M/(ρ A): the body's mass over the water's density times the "
+                               "area of its waterplane"))
+           .field("window", Schema::number().optional().min(0.0, false).unit("s").doc(
+                                "the last seconds of the run the draft is averaged over "
+                                "(default: the second half of the run); the longer, the less "
+                                "the heave and the tank's sloshing that are left weigh")),
+       [](Json& params, const Json& scene) {
+         if (auto problem = check_column(params, "level", scene); !problem.empty()) return problem;
+         return check_column(params, "lowest", scene);
+       },
+       [](const RunOutputs& run, const Json& p) {
+         const auto time = run.metrics.column("time");
+         const double window =
+             p.contains("window") ? p["window"].get<double>() : 0.5 * (time.empty() ? 0.0 : time.back());
+         return archimedes_draft_error(time, run.metrics.column(p["level"]),
+                                       run.metrics.column(p["lowest"]), p["draft"], window);
+       }});
+  r.push_back(
       {"projection_error",
        "one projection of a manufactured field (the divergence-free Taylor–Green vortex plus a "
        "gradient, grid_fluid's \"initial_velocity\") against its divergence-free part: the first "
@@ -534,6 +563,28 @@ double standing_wave_period_error(const std::vector<double>& time,
   const double k = 2.0 * std::numbers::pi / wavelength;
   const double theory = 2.0 * std::numbers::pi / std::sqrt(g * k * std::tanh(k * depth));
   return std::abs(period - theory) / theory;
+}
+
+double archimedes_draft_error(const std::vector<double>& time, const std::vector<double>& level,
+                              const std::vector<double>& lowest, double draft, double window) {
+  same_length(time, level);
+  same_length(time, lowest);
+  // Each row holds the state at the end of its step, which stands for the step (t_{i−1}, t_i].
+  const double from = time.back() - window;
+  if (from < 0.0)
+    throw MeasureError("archimedes_draft: the window of " + std::to_string(window) +
+                       " s is longer than the run (" + std::to_string(time.back()) +
+                       " s); run longer or shorten \"window\"");
+  double sum = 0.0, span = 0.0;
+  for (size_t i = 0; i < time.size(); ++i) {
+    if (time[i] <= from) continue;
+    const double offset = level[i] - lowest[i];
+    if (!std::isfinite(offset)) return kNaN;
+    const double dt = time[i] - std::max(i == 0 ? 0.0 : time[i - 1], from);
+    sum += offset * dt;
+    span += dt;
+  }
+  return std::abs(sum / span - draft) / draft;
 }
 
 const std::vector<ErrorMeasure>& error_measures() {

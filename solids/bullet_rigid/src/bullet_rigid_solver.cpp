@@ -222,6 +222,18 @@ void BulletRigidSolver::report(sdk::Metrics& out) const {
   out.set("potential_energy", m_world->potential_energy());
   out.set("contacts", m_world->contact_count());
   out.set("substeps", m_world->last_substeps());
+  // Each body's pose, for known answers (a free fall, the draft of a floating hull): its
+  // centre of mass and its lowest node's height along −gravity (+y without gravity).
+  const Eigen::Vector3d& g = m_world->gravity();
+  const Eigen::Vector3d up = g.norm() > 0.0 ? Eigen::Vector3d(-g.normalized()) : Eigen::Vector3d::UnitY();
+  for (int i = 0; i < m_world->body_count(); ++i) {
+    const std::string body = m_world->spec(i).name + ".";
+    const Eigen::Vector3d c = m_world->state(i).centre_of_mass;
+    out.set(body + "center_x", c.x());
+    out.set(body + "center_y", c.y());
+    out.set(body + "center_z", c.z());
+    out.set(body + "lowest", (m_surfaces[static_cast<size_t>(i)].positions * up).minCoeff());
+  }
 }
 
 }  // namespace shellflow::bullet_rigid

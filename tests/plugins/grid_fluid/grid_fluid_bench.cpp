@@ -10,8 +10,10 @@
 // to a relative residual of 1e-5, double precision) < 1.5 s without shells, < 2.0 s with
 // the sheet; peak memory < 1 GB at 128^3.
 #include <benchmark/benchmark.h>
+#include <omp.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <cstdio>
 #include <cstring>
 #include <string>
@@ -19,6 +21,7 @@
 #include "bench_peak_memory.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/grid_fluid/grid_fluid_solver.hpp"
+#include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
 
 namespace {
@@ -127,6 +130,40 @@ BENCHMARK(BM_PlumeWithSheet)
     ->ArgsProduct({{32, 64, 128}, {0, 1}})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
+
+/// The region labelling both pressure solves run each step (fluid_regions.hpp), at the
+/// paper curtain's 210×140×140 cells: a wall across x with a 40-cell square hole in it (one
+/// region through the hole) and, with water, the upper half of the cells air. Args:
+/// water (0/1), threads.
+void BM_LabelRegions(benchmark::State& state) {
+  const Eigen::Vector3i n(210, 140, 140);
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 140.0, n);
+  std::array<std::vector<std::uint8_t>, 3> closed;
+  closed[0].assign(grid.size(grid::Location::FaceX), 0);
+  closed[1].assign(grid.size(grid::Location::FaceY), 0);
+  closed[2].assign(grid.size(grid::Location::FaceZ), 0);
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j)
+      if (std::abs(j - 70) > 20 || std::abs(k - 70) > 20)
+        closed[0][grid.index(grid::Location::FaceX, 105, j, k)] = 1;
+  std::vector<std::uint8_t> liquid;
+  if (state.range(0) != 0) {
+    liquid.assign(grid.size(grid::Location::Cell), 1);
+    for (std::int64_t c = 0; c < grid.size(grid::Location::Cell); ++c)
+      if (grid.coordinates(grid::Location::Cell, c).y() >= n.y() / 2) liquid[c] = 0;
+  }
+  const int threads = omp_get_max_threads();
+  omp_set_num_threads(static_cast<int>(state.range(1)));
+  const grid_fluid::DomainBoundary boundary;
+  grid_fluid::FluidRegions regions;
+  for (auto _ : state) {
+    grid_fluid::label_fluid_regions(grid, closed, boundary, regions, true, liquid);
+    benchmark::DoNotOptimize(regions.region.data());
+  }
+  omp_set_num_threads(threads);
+  state.counters["regions"] = regions.count();
+}
+BENCHMARK(BM_LabelRegions)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond);
 
 /// `--peak-memory=N[,sheet][,mic0]`: a plume run (warm-up + 3 steps) in this process, then
 /// its peak resident set (getrusage ru_maxrss) printed as "peak_rss_kb <value>".

@@ -158,6 +158,32 @@ TEST(ErrorMeasures, StandingWavePeriodFivePercentLong) {
                MeasureError);
 }
 
+TEST(ErrorMeasures, ArchimedesDraftIsTheWindowsMeanAgainstTheDraft) {
+  // level − lowest = 0.16 + 0.01 sin(2π t / P) over the last two periods: the heave's mean
+  // over whole periods is 0 (the sum of sin(2πn/N) over n = 1..N, right-end samples),
+  // so the mean draft is 0.16 against d = 0.15, an error of 1/15. Before the window the
+  // body is far off (and once non-finite): none of it counts.
+  const double period = 0.5, d = 0.15;
+  std::vector<double> t, level, lowest;
+  for (int n = 0; n <= 400; ++n) {  // 2 s, 100 steps a period
+    t.push_back(n * period / 100.0);
+    level.push_back(0.5 + 0.002 * n);  // the level rises too: only the difference counts
+    const double offset = t.back() < 1.0 ? (n == 3 ? std::nan("") : 0.4)
+                                         : 0.16 + 0.01 * std::sin(2.0 * std::numbers::pi * t.back() / period);
+    lowest.push_back(level.back() - offset);
+  }
+  EXPECT_NEAR(archimedes_draft_error(t, level, lowest, d, 2.0 * period), (0.16 - d) / d, kRoundOff);
+  // Half a period in the window (a trough): the heave no longer cancels; its mean over the
+  // half period, −0.01 · 2/π, is what a user's too-short window adds. The right-end sum of
+  // the half-wave falls (π/50)²/12 short of its integral: 1.4e-5 of the error here.
+  EXPECT_NEAR(archimedes_draft_error(t, level, lowest, d, 0.5 * period),
+              (0.16 - 0.02 / std::numbers::pi - d) / d, 1e-4);
+  // A non-finite value inside the window: no error to give. A window longer than the run: refused.
+  lowest[390] = std::nan("");
+  EXPECT_TRUE(std::isnan(archimedes_draft_error(t, level, lowest, d, 2.0 * period)));
+  EXPECT_THROW(archimedes_draft_error(t, level, lowest, d, 2.5), MeasureError);
+}
+
 TEST(ErrorMeasures, LogLogSlopeOfAPowerLaw) {
   EXPECT_NEAR(log_log_slope({1, 2, 4, 8}, {3, 12, 48, 192}), 2.0, kRoundOff);
   // Non-positive and non-finite points are left out; one point is no line.
@@ -233,6 +259,29 @@ TEST_F(HandMadeRun, ProjectionAndEnergyMeasuresThroughTheRegistry) {
   params = {{"initial", 0.125}};
   ASSERT_EQ(energy->bind(params, scene), "");
   EXPECT_NEAR(energy->evaluate(run, params), 0.2, kRoundOff);  // 0.1 J left of 0.125 J
+}
+
+TEST_F(HandMadeRun, ArchimedesDraftThroughTheRegistryAveragesTheSecondHalf) {
+  // level − lowest: 0.2 m over the first two steps, 0.16 m over the last two (t in (0.2, 0.4]):
+  // the default window, the second half of the run, sees only the latter.
+  std::ofstream csv(m_dir / "metrics.csv");
+  csv << "step,frame,time,dt,water.level.extent,shells.box.lowest\n"
+      << "1,0,0.1,0.1,0.5,0.3\n2,0,0.2,0.1,0.5,0.3\n3,0,0.3,0.1,0.51,0.35\n4,0,0.4,0.1,0.49,0.33\n";
+  csv.close();
+  const auto run = RunOutputs::read(m_dir);
+  const auto* measure = find_error_measure("archimedes_draft");
+  ASSERT_NE(measure, nullptr);
+  const nlohmann::json scene = {{"fluid", {{"name", "water"}}},
+                                {"solids", {{{"name", "shells"}}}}};
+  nlohmann::json params = {
+      {"level", "water.level.extent"}, {"lowest", "shells.box.lowest"}, {"draft", 0.15}};
+  ASSERT_EQ(measure->bind(params, scene), "");
+  EXPECT_NEAR(measure->evaluate(run, params), 0.01 / 0.15, kRoundOff);
+  params["window"] = 0.4;  // the whole run: 0.1 s at each of 0.2, 0.2, 0.16, 0.16 m
+  EXPECT_NEAR(measure->evaluate(run, params), 0.03 / 0.15, kRoundOff);
+  // A column of an instance the scene does not have is named before anything runs.
+  params["lowest"] = "shell.box.lowest";
+  EXPECT_THAT(measure->bind(params, scene), HasSubstr("the instance 'shell'"));
 }
 
 TEST_F(HandMadeRun, MissingColumnNamesTheColumnsThereAre) {

@@ -1,5 +1,8 @@
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -50,6 +53,39 @@ void ShellGeometry::set_velocities(std::span<const sdk::Positions> velocities) {
     if (k < 0 || velocities[s].rows() != m_shells[k]->positions.rows()) continue;
     m_shells[k]->velocities = velocities[s];
   }
+}
+
+const std::array<std::vector<CellFaceHit>, 3>& ShellGeometry::cell_face_hits(
+    const geometry::ShellBand& band) const {
+  if (m_cell_face_hits) return *m_cell_face_hits;
+  std::array<std::vector<CellFaceHit>, 3> hits;
+  const grid::UniformGrid& grid = band.grid();
+  const double half = 0.5 * grid.dx();
+  for (int a = 0; a < 3; ++a) {
+    if (empty()) break;
+    const grid::Location loc = a == 0   ? grid::Location::FaceX
+                               : a == 1 ? grid::Location::FaceY
+                                        : grid::Location::FaceZ;
+    const auto list = band.samples(loc);
+    const std::int64_t m = static_cast<std::int64_t>(list.size());
+    std::vector<std::vector<CellFaceHit>> found(omp_get_max_threads());
+#pragma omp parallel for schedule(dynamic, 256)
+    for (std::int64_t s = 0; s < m; ++s) {
+      const std::int64_t f = list[s];
+      const Eigen::Vector3i ijk = grid.coordinates(loc, f);
+      if (ijk[a] == 0 || ijk[a] == grid.cells()[a]) continue;  // a domain face: one cell
+      Eigen::Vector3d c0 = grid.position(loc, ijk), c1 = c0;
+      c0[a] -= half;
+      c1[a] += half;
+      if (const auto hit = m_caster->first_hit(c0, c1))
+        found[omp_get_thread_num()].push_back({f, *hit});
+    }
+    for (const auto& part : found) hits[a].insert(hits[a].end(), part.begin(), part.end());
+    std::sort(hits[a].begin(), hits[a].end(),
+              [](const CellFaceHit& x, const CellFaceHit& y) { return x.face < y.face; });
+  }
+  m_cell_face_hits = std::move(hits);
+  return *m_cell_face_hits;
 }
 
 Eigen::Vector3d ShellGeometry::velocity_at(const geometry::WedgeHit& hit) const {

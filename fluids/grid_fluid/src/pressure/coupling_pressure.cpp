@@ -57,52 +57,36 @@ void CouplingPressure::classify_faces(const DomainBoundary& boundary, const Shel
     }
   }
   const double dx = m_grid.dx();
-  const double half = 0.5 * dx;
   for (int a = 0; a < 3; ++a) {
     auto& closed = m_closed[a];
     std::fill(closed.begin(), closed.end(), 0);
-    const Location loc = face_location(a);
     boundary.for_each_closed_face(m_grid, a, [&](std::int64_t f, const FaceCondition&) {
       closed[f] = 1;  // walls, inflow and source faces: Neumann
     });
-    // Fig. 5: the segment between the two cell centres meets a shell.
-    const auto list = band.samples(loc);
-    const std::int64_t m = static_cast<std::int64_t>(list.size());
-    std::vector<std::vector<ShellFace>> found(omp_get_max_threads());
+    // Fig. 5: the segment between the two cell centres meets a shell (cast once per
+    // geometry, shared with the projection).
+    const auto& hits = shells.cell_face_hits(band)[a];
+    const std::int64_t m = static_cast<std::int64_t>(hits.size());
+    const size_t first = m_shell_faces.size();
+    m_shell_faces.resize(first + hits.size());
     bool bad_density = false;
-#pragma omp parallel for schedule(dynamic, 256) reduction(|| : bad_density)
+#pragma omp parallel for schedule(static) reduction(|| : bad_density)
     for (std::int64_t s = 0; s < m; ++s) {
-      const std::int64_t f = list[s];
-      const Eigen::Vector3i ijk = m_grid.coordinates(loc, f);
-      if (ijk[a] == 0 || ijk[a] == m_grid.cells()[a]) continue;
-      Eigen::Vector3d c0 = m_grid.position(loc, ijk);
-      Eigen::Vector3d c1 = c0;
-      c0[a] -= half;
-      c1[a] += half;
-      const auto hit = shells.first_hit(c0, c1);
-      if (!hit) continue;
-      const double velocity = shells.velocity_at(*hit)[a];
+      const auto& [f, hit] = hits[s];
+      const double velocity = shells.velocity_at(hit)[a];
       double beta = 0.0;  // a one-way shell: Neumann, it does not yield to the fluid
-      const int body = m_body_of_shell[hit->shell];
-      if (body < 0 && shells.receives_forces(hit->shell)) {
-        const double sigma = shells.surface_density_at(*hit);
-        if (!(sigma > 0.0)) {
-          bad_density = true;
-          continue;
-        }
+      const int body = m_body_of_shell[hit.shell];
+      if (body < 0 && shells.receives_forces(hit.shell)) {
+        const double sigma = shells.surface_density_at(hit);
+        if (!(sigma > 0.0)) bad_density = true;
         beta = m_settings.fluid_density * dx / sigma;  // ρ / ρ_face with ρ_face = σ Δx²/Δx³
       }
-      found[omp_get_thread_num()].push_back({a, f, velocity, beta, hit->s, body, hit->triangle});
+      m_shell_faces[first + s] = {a, f, velocity, beta, hit.s, body, hit.triangle};
     }
     if (bad_density)
       throw Error(
           "grid_fluid coupling: a two-way shell has a triangle of zero or negative "
           "surface density; give every two-way shell a positive surface density");
-    const size_t first = m_shell_faces.size();
-    for (const auto& part : found)
-      m_shell_faces.insert(m_shell_faces.end(), part.begin(), part.end());
-    std::sort(m_shell_faces.begin() + first, m_shell_faces.end(),
-              [](const ShellFace& x, const ShellFace& y) { return x.face < y.face; });
     for (size_t k = first; k < m_shell_faces.size(); ++k) {
       const ShellFace& sf = m_shell_faces[k];
       // A rigid body's faces close for the region labelling only (solve()).

@@ -1,5 +1,10 @@
 #include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
 
+#include <omp.h>
+
+#include <algorithm>
+#include <utility>
+
 namespace shellflow::grid_fluid {
 
 using grid::Location;
@@ -23,6 +28,158 @@ linear::ConstantNullSpace FluidRegions::null_space(std::span<const std::int64_t>
   }
   return linear::ConstantNullSpace(std::move(group), groups);
 }
+
+namespace {
+
+/// Union–find over the slabs' pieces of regions, each piece's root the piece with the
+/// smallest first cell (so the regions keep the serial fill's numbering).
+int find_root(std::vector<int>& parent, int x) {
+  while (parent[x] != x) {
+    parent[x] = parent[parent[x]];
+    x = parent[x];
+  }
+  return x;
+}
+
+/// The flood fill, in parallel: each thread fills the pieces of regions within its slab of
+/// z-planes, noting the faces to the slab above that join two pieces; the pieces are then
+/// joined, and the regions numbered by their first cell in cell order, as a serial fill
+/// from cell 0 numbers them (the numbering does not depend on the thread count).
+void fill_regions(const grid::UniformGrid& grid,
+                  const std::array<std::vector<std::uint8_t>, 3>& closed,
+                  const bool (&open_side)[3][2], std::span<const std::uint8_t> liquid,
+                  FluidRegions& out, std::vector<std::int64_t>& counts) {
+  const std::int64_t cells = grid.size(Location::Cell);
+  const bool water = !liquid.empty();
+  constexpr int kAir = -2, kUnvisited = -1;
+  std::fill(out.region.begin(), out.region.end(), kUnvisited);
+  if (water) {
+#pragma omp parallel for schedule(static)
+    for (std::int64_t c = 0; c < cells; ++c)
+      if (liquid[c] == 0) out.region[c] = kAir;
+  }
+  const Eigen::Vector3i n = grid.cells();
+  const std::int64_t nx = n.x(), ny = n.y(), plane = nx * ny;
+  const std::uint8_t* closed_x = closed[0].data();
+  const std::uint8_t* closed_y = closed[1].data();
+  const std::uint8_t* closed_z = closed[2].data();
+  const int slabs = std::max(1, std::min(omp_get_max_threads(), n.z()));
+  const auto first_plane = [&](int s) { return static_cast<int>(std::int64_t(n.z()) * s / slabs); };
+  struct Piece {
+    std::int64_t first_cell;
+    std::int64_t size;
+    bool open, any_face;
+  };
+  std::vector<std::vector<Piece>> pieces(slabs);
+  // Per slab: pairs (cell of its top plane, cell above it) across a non-closed z face.
+  std::vector<std::vector<std::pair<std::int64_t, std::int64_t>>> links(slabs);
+#pragma omp parallel for schedule(static, 1)
+  for (int s = 0; s < slabs; ++s) {
+    const int k_lo = first_plane(s), k_hi = first_plane(s + 1);  // planes [k_lo, k_hi)
+    auto& mine = pieces[s];
+    std::vector<std::int64_t> stack;
+    for (std::int64_t seed = k_lo * plane; seed < k_hi * plane; ++seed) {
+      if (out.region[seed] != kUnvisited) continue;
+      const int r = static_cast<int>(mine.size());  // local id within the slab
+      Piece piece{seed, 0, false, false};
+      out.region[seed] = r;
+      stack.push_back(seed);
+      // Visits the neighbour across a non-closed face, or notes an open domain face.
+      const auto visit = [&](bool inside, std::int64_t nb, bool open_domain_face) {
+        piece.any_face = true;
+        if (!inside) {
+          piece.open = piece.open || open_domain_face;
+        } else if (out.region[nb] == kAir) {
+          piece.open = true;  // a face to an air cell: Dirichlet p = 0 (§4.3)
+        } else if (out.region[nb] == kUnvisited) {
+          out.region[nb] = r;
+          stack.push_back(nb);
+        }
+      };
+      while (!stack.empty()) {
+        const std::int64_t c = stack.back();
+        stack.pop_back();
+        ++piece.size;
+        // Face indices from the cell's row (UniformGrid layout), without a division per face.
+        const std::int64_t i = c % nx, j = (c / nx) % ny, k = c / plane;
+        const std::int64_t fx = i + (nx + 1) * (j + ny * k);
+        const std::int64_t fy = i + nx * (j + (ny + 1) * k);
+        if (!closed_x[fx]) visit(i > 0, c - 1, open_side[0][0]);
+        if (!closed_x[fx + 1]) visit(i + 1 < nx, c + 1, open_side[0][1]);
+        if (!closed_y[fy]) visit(j > 0, c - nx, open_side[1][0]);
+        if (!closed_y[fy + nx]) visit(j + 1 < ny, c + nx, open_side[1][1]);
+        // Across the slab's own bottom and top planes the neighbour is another slab's:
+        // an air cell there opens the piece; a fluid cell is joined below.
+        // (`liquid`, not the other slab's labels, which its thread is writing).
+        if (!closed_z[c]) {
+          if (k == 0 || k > k_lo) {
+            visit(k > 0, c - plane, open_side[2][0]);
+          } else {
+            piece.any_face = true;
+            piece.open = piece.open || (water && liquid[c - plane] == 0);
+          }
+        }
+        if (!closed_z[c + plane]) {
+          if (k + 1 == n.z() || k + 1 < k_hi) {
+            visit(k + 1 < n.z(), c + plane, open_side[2][1]);
+          } else {
+            piece.any_face = true;
+            if (water && liquid[c + plane] == 0)
+              piece.open = true;
+            else
+              links[s].emplace_back(c, c + plane);
+          }
+        }
+      }
+      mine.push_back(piece);
+    }
+  }
+  // The pieces, numbered slab after slab (so in the order of their first cells).
+  std::vector<int> offset(slabs + 1, 0);
+  for (int s = 0; s < slabs; ++s) offset[s + 1] = offset[s] + static_cast<int>(pieces[s].size());
+  std::vector<int> parent(offset[slabs]);
+  for (int p = 0; p < offset[slabs]; ++p) parent[p] = p;
+  for (int s = 0; s + 1 < slabs; ++s)
+    for (const auto& [below, above] : links[s]) {
+      const int a = find_root(parent, offset[s] + out.region[below]);
+      const int b = find_root(parent, offset[s + 1] + out.region[above]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);  // the root: the smaller first cell
+    }
+  // A region per root, in the order of the roots (their first cells): the serial numbering.
+  std::vector<int> region_of_piece(offset[slabs]);
+  out.enclosed.clear();
+  out.sealed.clear();
+  std::vector<std::uint8_t> open, any_face;
+  for (int s = 0; s < slabs; ++s)
+    for (int p = 0; p < static_cast<int>(pieces[s].size()); ++p) {
+      const int id = offset[s] + p, root = find_root(parent, id);
+      const Piece& piece = pieces[s][p];
+      if (root == id) {
+        region_of_piece[id] = static_cast<int>(counts.size());
+        counts.push_back(0);
+        open.push_back(0);
+        any_face.push_back(0);
+      } else {
+        region_of_piece[id] = region_of_piece[root];  // root < id: numbered already
+      }
+      const int r = region_of_piece[id];
+      counts[r] += piece.size;
+      open[r] |= piece.open ? 1 : 0;
+      any_face[r] |= piece.any_face ? 1 : 0;
+    }
+  for (size_t r = 0; r < counts.size(); ++r) {
+    out.enclosed.push_back(open[r] ? 0 : 1);
+    out.sealed.push_back(any_face[r] ? 0 : 1);
+  }
+#pragma omp parallel for schedule(static, 1)
+  for (int s = 0; s < slabs; ++s)
+    for (std::int64_t c = first_plane(s) * plane; c < first_plane(s + 1) * plane; ++c) {
+      const int local = out.region[c];
+      out.region[c] = local >= 0 ? region_of_piece[offset[s] + local] : -1;
+    }
+}
+
+}  // namespace
 
 void label_fluid_regions(const grid::UniformGrid& grid,
                          const std::array<std::vector<std::uint8_t>, 3>& closed,
@@ -50,64 +207,7 @@ void label_fluid_regions(const grid::UniformGrid& grid,
     out.sealed.push_back(0);
     counts.push_back(cells);
   } else {
-    std::fill(out.region.begin(), out.region.end(), -1);
-    // Air cells are never visited: marked so, with `kAir` until the end.
-    constexpr int kAir = -2;
-    if (water) {
-#pragma omp parallel for schedule(static)
-      for (std::int64_t c = 0; c < cells; ++c)
-        if (liquid[c] == 0) out.region[c] = kAir;
-    }
-    const Eigen::Vector3i n = grid.cells();
-    const std::int64_t nx = n.x(), ny = n.y(), plane = nx * ny;
-    const std::uint8_t* closed_x = closed[0].data();
-    const std::uint8_t* closed_y = closed[1].data();
-    const std::uint8_t* closed_z = closed[2].data();
-    std::vector<std::int64_t> stack;
-    for (std::int64_t seed = 0; seed < cells; ++seed) {
-      if (out.region[seed] != -1) continue;
-      const int r = out.count();
-      bool open = false;
-      bool any_face = false;  // a non-closed face: the cell has a pressure unknown
-      std::int64_t size = 0;
-      out.region[seed] = r;
-      stack.push_back(seed);
-      // Visits the neighbour across a non-closed face, or notes an open domain face.
-      const auto visit = [&](bool inside, std::int64_t nb, bool open_domain_face) {
-        any_face = true;
-        if (!inside) {
-          open = open || open_domain_face;
-        } else if (out.region[nb] == kAir) {
-          open = true;  // a face to an air cell: Dirichlet p = 0 (§4.3)
-        } else if (out.region[nb] < 0) {
-          out.region[nb] = r;
-          stack.push_back(nb);
-        }
-      };
-      while (!stack.empty()) {
-        const std::int64_t c = stack.back();
-        stack.pop_back();
-        ++size;
-        // Face indices from the cell's row (UniformGrid layout), without a division per face.
-        const std::int64_t i = c % nx, j = (c / nx) % ny, k = c / plane;
-        const std::int64_t fx = i + (nx + 1) * (j + ny * k);
-        const std::int64_t fy = i + nx * (j + (ny + 1) * k);
-        if (!closed_x[fx]) visit(i > 0, c - 1, open_side[0][0]);
-        if (!closed_x[fx + 1]) visit(i + 1 < nx, c + 1, open_side[0][1]);
-        if (!closed_y[fy]) visit(j > 0, c - nx, open_side[1][0]);
-        if (!closed_y[fy + nx]) visit(j + 1 < ny, c + nx, open_side[1][1]);
-        if (!closed_z[c]) visit(k > 0, c - plane, open_side[2][0]);
-        if (!closed_z[c + plane]) visit(k + 1 < n.z(), c + plane, open_side[2][1]);
-      }
-      out.enclosed.push_back(open ? 0 : 1);
-      out.sealed.push_back(any_face ? 0 : 1);
-      counts.push_back(size);
-    }
-    if (water) {
-#pragma omp parallel for schedule(static)
-      for (std::int64_t c = 0; c < cells; ++c)
-        if (out.region[c] == kAir) out.region[c] = -1;
-    }
+    fill_regions(grid, closed, open_side, liquid, out, counts);
   }
   // Cells of each region, in cell order (CSR).
   const int regions = out.count();
@@ -119,9 +219,22 @@ void label_fluid_regions(const grid::UniformGrid& grid,
     for (std::int64_t cell = 0; cell < cells; ++cell) out.cells[cell] = cell;
     return;
   }
-  std::vector<std::int64_t> fill(out.start.begin(), out.start.end() - 1);
-  for (std::int64_t cell = 0; cell < cells; ++cell)
-    if (out.region[cell] >= 0) out.cells[fill[out.region[cell]]++] = cell;
+  // In parallel over slabs of cells: each slab's share of a region follows the slabs before.
+  const int slabs = omp_get_max_threads();
+  const auto first_cell = [&](int s) { return cells * s / slabs; };
+  std::vector<std::vector<std::int64_t>> fill(slabs, std::vector<std::int64_t>(regions, 0));
+#pragma omp parallel for schedule(static, 1)
+  for (int s = 0; s < slabs; ++s)
+    for (std::int64_t cell = first_cell(s); cell < first_cell(s + 1); ++cell)
+      if (out.region[cell] >= 0) ++fill[s][out.region[cell]];
+  for (int r = 0; r < regions; ++r) {
+    std::int64_t next = out.start[r];
+    for (int s = 0; s < slabs; ++s) next += std::exchange(fill[s][r], next);
+  }
+#pragma omp parallel for schedule(static, 1)
+  for (int s = 0; s < slabs; ++s)
+    for (std::int64_t cell = first_cell(s); cell < first_cell(s + 1); ++cell)
+      if (out.region[cell] >= 0) out.cells[fill[s][out.region[cell]]++] = cell;
 }
 
 }  // namespace shellflow::grid_fluid

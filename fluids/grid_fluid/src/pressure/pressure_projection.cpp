@@ -32,31 +32,20 @@ void PressureProjection::mark_neumann(MacGrid& mac, const DomainBoundary& bounda
   for (int a = 0; a < 3; ++a) {
     auto& flags = m_neumann[a];
     std::fill(flags.begin(), flags.end(), 0);
-    const Location loc = face_location(a);
     boundary.for_each_closed_face(m_grid, a, [&](std::int64_t f, const FaceCondition&) {
       flags[f] = 1;  // wall and inflow faces of the domain, source faces
     });
     if (band == nullptr || shells.empty()) continue;
-    // Fig. 5: a ray between the two cell centres that meets a shell closes the face.
-    const auto list = band->samples(loc);
-    const std::int64_t m = static_cast<std::int64_t>(list.size());
+    // Fig. 5: a ray between the two cell centres that meets a shell closes the face (the
+    // rays the coupling solve cast, when it ran on these shells).
+    const auto& hits = shells.cell_face_hits(*band)[a];
+    const std::int64_t closed = static_cast<std::int64_t>(hits.size());
     auto& u = mac.face_velocity(a);
-    std::int64_t closed = 0;
-    const double half = 0.5 * m_grid.dx();
-#pragma omp parallel for schedule(dynamic, 256) reduction(+ : closed)
-    for (std::int64_t s = 0; s < m; ++s) {
-      const std::int64_t f = list[s];
-      const Eigen::Vector3i ijk = m_grid.coordinates(loc, f);
-      if (ijk[a] == 0 || ijk[a] == m_grid.cells()[a]) continue;
-      const Eigen::Vector3d y = m_grid.position(loc, ijk);
-      Eigen::Vector3d c0 = y;
-      Eigen::Vector3d c1 = y;
-      c0[a] -= half;
-      c1[a] += half;
-      if (shells.visible(c0, c1)) continue;
+#pragma omp parallel for schedule(static)
+    for (std::int64_t s = 0; s < closed; ++s) {
+      const auto& [f, hit] = hits[s];
       flags[f] = 1;
-      u[f] = shells.object_velocity(c0, c1)[a];  // §4.3: the (effective) object velocity
-      ++closed;
+      u[f] = shells.velocity_at(hit)[a];  // §4.3: the (effective) object velocity
     }
     stats.shell_neumann_faces += closed;
   }

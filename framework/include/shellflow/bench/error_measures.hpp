@@ -70,6 +70,14 @@ double standing_wave_period_error(const std::vector<double>& time,
                                   const std::vector<double>& surface, double depth,
                                   double wavelength, double g);
 
+/// A floating body's draft against Archimedes: the mean over the run's last `window`
+/// seconds (weighted by each step's Δt) of `level` − `lowest`, the water's surface height
+/// beside the body minus the height of its lowest point, against d = M/(ρ A), the depth at
+/// which the water it keeps out weighs its mass: |d_mean − d| / d. The window covers the
+/// heave, which a mean over whole periods cancels.
+double archimedes_draft_error(const std::vector<double>& time, const std::vector<double>& level,
+                              const std::vector<double>& lowest, double draft, double window);
+
 /// One projection's error against a manufactured solution: the first step's value of a
 /// grid_fluid "velocity_error" probe column (|u − w| relative to w, the divergence-free part
 /// of a field made of w plus a gradient, analytic_velocity.hpp). The first step only: later

@@ -4,12 +4,14 @@
 // call), one TriangleBvh per shell and one WedgeCaster over all of them. Answers
 // "is b visible from a" and "what is the object velocity where [a, b] meets a shell".
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
 #include <span>
 #include <vector>
 
+#include "shellflow/geometry/shell_band.hpp"
 #include "shellflow/geometry/triangle_bvh.hpp"
 #include "shellflow/geometry/wedge_caster.hpp"
 #include "shellflow/grid/uniform_grid.hpp"
@@ -23,6 +25,12 @@ struct ShellContact {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< on the surface
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< unit, towards the query's side
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< the object's velocity there
+};
+
+/// A face of the MAC grid whose segment between its two cell centres meets a shell (Fig. 5).
+struct CellFaceHit {
+  std::int64_t face;       ///< flat index in its family (UniformGrid layout)
+  geometry::WedgeHit hit;  ///< where the segment first meets a wedge (thickness ε)
 };
 
 class ShellGeometry {
@@ -76,6 +84,12 @@ class ShellGeometry {
     if (m_shells.empty()) return std::nullopt;
     return m_caster->first_hit(a, b);
   }
+  /// The interior faces of each family that the shells cut (Fig. 5), in face order: both
+  /// pressure solves close or couple exactly these. Cast once per geometry (it is rebuilt
+  /// whenever the shells move) over the faces `band` samples, which must hold every face
+  /// within Δx/2 of a shell; later calls return the same lists whatever band they pass.
+  const std::array<std::vector<CellFaceHit>, 3>& cell_face_hits(
+      const geometry::ShellBand& band) const;
   /// Whether internal shell `shell` is two-way coupled (ShellSurface::receives_fluid_forces).
   bool receives_forces(int shell) const { return m_shells[shell]->receives_forces; }
   /// Surface density [kg/m^2] of the triangle at a hit.
@@ -103,6 +117,7 @@ class ShellGeometry {
   std::vector<std::unique_ptr<Shell>> m_shells;
   std::unique_ptr<geometry::WedgeCaster> m_caster;
   std::vector<int> m_internal;  ///< ShellSet position -> index in m_shells (-1: empty shell)
+  mutable std::optional<std::array<std::vector<CellFaceHit>, 3>> m_cell_face_hits;
   double m_epsilon = 0.0;
 };
 
