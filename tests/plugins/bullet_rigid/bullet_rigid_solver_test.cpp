@@ -155,11 +155,34 @@ TEST(BulletRigidSolver, ReportAndSaveRestoreThroughTheInterface) {
   for (int f = 0; f < 24; ++f, t += 1.0 / 24) solver.advance(t, 1.0 / 24, {});
   sdk::Metrics metrics;
   solver.report(metrics);
-  ASSERT_EQ(metrics.values().size(), 4u);
+  // Four world figures, then each body's pose: centre of mass and lowest node.
+  ASSERT_EQ(metrics.values().size(), 4u + 4u * 2u);
   EXPECT_EQ(metrics.values()[0].first, "kinetic_energy");
   EXPECT_EQ(metrics.values()[2].first, "contacts");
   EXPECT_GT(metrics.values()[2].second, 0.0);   // the ball has landed (dropped from 0.7 m)
   EXPECT_EQ(metrics.values()[3].second, 10.0);  // (1/24) / (1/240)
+  auto value = [&](const std::string& key) {
+    for (const auto& [name, v] : metrics.values())
+      if (name == key) return v;
+    ADD_FAILURE() << "no metric " << key;
+    return 0.0;
+  };
+  // The kinematic cup (its box centred at (2, 1, 0), 0.6 × 0.4 × 0.3 m, open at +y) moved 1 s
+  // at 0.1 m/s along z, as the kinematics test above measures it (to 1e-14 m). Its mass
+  // centre is its area's centroid: the floor (0.18 m² at y = −0.2 from the box's centre) pulls
+  // it down from the walls' (0.72 m² at 0) to −0.2 · 0.18 / 0.9 = −0.04.
+  EXPECT_NEAR(value("cup.center_x"), 2.0, 1e-14);
+  EXPECT_NEAR(value("cup.center_y"), 1.0 - 0.04, 1e-14);
+  EXPECT_NEAR(value("cup.center_z"), 0.1, 1e-14);
+  EXPECT_NEAR(value("cup.lowest"), 0.8, 1e-14);
+  // The ball rests on the ground at y = 0: its centre a radius up and its lowest node on the
+  // ground, both to within Bullet's collision margin (0.005 m) plus the icosphere's largest
+  // gap between a node and its sphere under the lowest node (r (1 − cos 0.17 rad) = 0.004 m
+  // at level 2; whichever node lies lowest after the ball settled).
+  EXPECT_NEAR(value("ball.center_y"), 0.3, 0.005 + 0.004);
+  EXPECT_NEAR(value("ball.lowest"), 0.0, 0.005 + 0.004);
+  EXPECT_NEAR(value("ball.center_x"), 0.0, 1e-9);  // dropped straight down
+  EXPECT_NEAR(value("ball.center_z"), 0.0, 1e-9);
 
   sdk::StateBuffer state;
   sdk::StateWriter writer(state);
