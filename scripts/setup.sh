@@ -15,7 +15,7 @@ PACKAGES=(
   cmake ninja-build g++ pkg-config
   libeigen3-dev libbullet-dev libsuitesparse-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtbb-dev libspdlog-dev libcli11-dev
-  libtinyobjloader-dev libstb-dev libpng-dev libopenvdb-dev libboost-iostreams-dev
+  libtinyobjloader-dev libassimp-dev libstb-dev libpng-dev libopenvdb-dev libboost-iostreams-dev
   libopenblas0-openmp  # an optimised BLAS for CHOLMOD (the reference BLAS is ~100x slower)
   python3-matplotlib   # scripts/plot_dam_break.py draws the README's dam-break figure
   ffmpeg               # a run with PNG previews ends with preview.mp4 (optional: a note if absent)

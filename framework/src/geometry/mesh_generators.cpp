@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "shellflow/geometry/mesh_import.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
 
@@ -556,20 +557,28 @@ sdk::Schema mesh_schema() {
       .option("obj", Schema::object("triangle mesh read from a Wavefront OBJ file (polygons "
                                     "are triangulated; unused vertices dropped)")
                          .field("file", Schema::file().doc("path of the .obj file, relative "
-                                                           "to the scene file")));
+                                                           "to the scene file")))
+      .option("file",
+              Schema::object("triangle mesh read from a file, its format by its extension: "
+                             ".obj, .stl, .ply, .gltf, .glb, .fbx, .dae and the other formats "
+                             "assimp reads (every mesh of the file, placed by its node "
+                             "transforms; polygons triangulated; corners at the same position "
+                             "joined; points and lines left out)")
+                  .field("file", Schema::file().doc("path of the mesh file, relative to the "
+                                                    "scene file")));
 }
 
 SurfaceMesh make_mesh(const nlohmann::json& spec, const std::string& json_path) {
   if (!spec.is_object() || !spec.contains("type") || !spec.at("type").is_string())
     throw ConfigError(json_path + "/type",
                       "a mesh needs a \"type\": grid, box, open_box, "
-                      "open_cylinder, revolution, boat_hull, sphere or obj");
+                      "open_cylinder, revolution, boat_hull, sphere, obj or file");
   const auto type = spec.at("type").get<std::string>();
   static const SchemaJson options = mesh_schema().json().at("options");
   if (!options.contains(type))
     throw ConfigError(json_path + "/type", "unknown mesh type \"" + type +
                                                "\"; use grid, box, open_box, open_cylinder, "
-                                               "revolution, boat_hull, sphere or obj");
+                                               "revolution, boat_hull, sphere, obj or file");
   // Defaults come from the one place they are declared: the schema.
   const auto& fields = options.at(type).at("fields");
   auto positive_size = [&]() {
@@ -632,9 +641,11 @@ SurfaceMesh make_mesh(const nlohmann::json& spec, const std::string& json_path) 
     return make_sphere(field<double>(spec, fields, "radius"),
                        field<int>(spec, fields, "subdivisions"));
   if (!spec.contains("file") || !spec.at("file").is_string())
-    throw ConfigError(json_path + "/file", "an \"obj\" mesh needs \"file\": the path of an .obj");
+    throw ConfigError(json_path + "/file", "a \"" + type + "\" mesh needs \"file\": the path of " +
+                                               (type == "obj" ? "an .obj" : "a mesh file"));
+  const std::filesystem::path file = spec.at("file").get<std::string>();
   try {
-    return load_obj(spec.at("file").get<std::string>());
+    return type == "obj" ? load_obj(file) : load_mesh_file(file);
   } catch (const IoError& e) {
     throw ConfigError(json_path + "/file", e.what());
   }

@@ -5,6 +5,7 @@
 //   "mesh": {"type": "grid", "width": 2, "height": 3, "nodes_u": 11, "nodes_v": 16,
 //            "pattern": "herringbone"}
 //   "mesh": {"type": "obj", "file": "meshes/cup.obj"}
+//   "mesh": {"type": "file", "file": "meshes/hull.stl"}   (mesh_import.hpp: STL, PLY, glTF ...)
 //   "transform": {"scale": 1, "rotate_axis": [0,1,0], "rotate_deg": 90, "translate": [2,4,3]}
 //
 // Conventions (tests rely on them):
@@ -40,7 +41,7 @@ struct MeshOrigin {
 struct SurfaceMesh {
   sdk::Positions positions;
   sdk::Triangles triangles;
-  std::shared_ptr<const MeshOrigin> origin;  ///< set by load_obj
+  std::shared_ptr<const MeshOrigin> origin;  ///< set by load_obj and load_mesh_file
 };
 
 /// How each grid quad is split into two triangles.
@@ -77,12 +78,12 @@ SurfaceMesh make_boat_hull(double length, double beam, double depth, double full
 /// range and for a file without faces.
 SurfaceMesh load_obj(const std::filesystem::path& file);
 
-/// The "mesh" variant schema (one option per generator, plus "obj").
+/// The "mesh" variant schema (one option per generator, plus "obj" and "file").
 sdk::Schema mesh_schema();
 /// Builds the mesh described by a validated "mesh" object (absent fields take the schema's
 /// defaults). Throws ConfigError at `json_path` + "/<field>" for values the schema cannot
-/// check, and at `json_path` + "/file" for an OBJ file load_obj() refuses (the message is
-/// load_obj's). The generators themselves throw std::invalid_argument for out-of-range
+/// check, and at `json_path` + "/file" for a file load_obj() or load_mesh_file() refuses
+/// (the message is theirs). The generators themselves throw std::invalid_argument for out-of-range
 /// arguments. The mesh is not checked here: solids call check_mesh() after "transform".
 SurfaceMesh make_mesh(const nlohmann::json& spec, const std::string& json_path = "/mesh");
 
