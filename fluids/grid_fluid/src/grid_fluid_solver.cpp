@@ -635,6 +635,11 @@ void GridFluid::report(sdk::Metrics& out) const {
   out.set("invalid_nodes", static_cast<double>(m_stats.refill.invalid_nodes));
   out.set("refill_from_object",
           static_cast<double>(m_stats.refill.refill.from_object + m_stats.refill.refill.isolated));
+  // What each phase's storage holds, written in both modes (cost follows need reads them):
+  // smoke keeps no level set, water no smoke density and temperature.
+  out.set("level_set_nodes",
+          m_liquid ? static_cast<double>(m_liquid->level_set().phi().size()) : 0.0);
+  out.set("smoke_nodes", static_cast<double>(m_nodes.density().size()));
   if (m_liquid) {
     const auto& w = m_liquid->stats();
     const double volume = m_liquid->level_set().volume();

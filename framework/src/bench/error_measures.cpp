@@ -405,16 +405,18 @@ std::vector<ErrorMeasure> make_registry() {
   }
   r.push_back(
       {"idle_work",
-       "work the scene does not need (cost follows need): max over steps of a counter column; a "
-       "column the run does not write at all counts as no work",
+       "work the scene does not need (cost follows need): max over steps of a counter column "
+       "the plugin reports whether or not it does the work (a column the run never wrote is an "
+       "error, so that a misspelt or missing counter cannot read as no work)",
        "analytic: 0 (the run plan skips the feature)", "1",
        Schema::object("").field(
            "column", Schema::string().doc("the counter, e.g. smoke.band_nodes (shell band work), "
-                                          "smoke.coupling_faces, smoke.fmm_marched_nodes")),
+                                          "smoke.coupling_faces, smoke.level_set_nodes, "
+                                          "water.smoke_nodes")),
        [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
        [](const RunOutputs& run, const Json& p) {
          const std::string column = p["column"];
-         return run.metrics.has(column) ? idle_work(run.metrics.column(column)) : 0.0;
+         return idle_work(run.metrics.column(column));
        }});
   return r;
 }

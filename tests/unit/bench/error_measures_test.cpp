@@ -223,9 +223,9 @@ TEST_F(HandMadeRun, FreeFallThroughTheRegistryReadsGravityFromRunJson) {
   nlohmann::json params = {
       {"column", "plate.height"}, {"initial_height", 1.0}, {"initial_velocity", 0.0}};
   EXPECT_NEAR(measure->evaluate(run, params), 1e-3 / (0.5 * kG * 0.09), kRoundOff);
-  // A counter the run never wrote (a smoke run has no level-set columns) is no work.
-  EXPECT_EQ(find_error_measure("idle_work")->evaluate(run, {{"column", "air.fmm_marched_nodes"}}),
-            0.0);
+  // A counter the run never wrote is an error, not "no work": a misspelt column must not pass.
+  EXPECT_THROW(find_error_measure("idle_work")->evaluate(run, {{"column", "air.level_set_node"}}),
+               MeasureError);
   // An empty cell (a figure not reported at that step) reads as NaN: no error to give.
   params = {{"column", "air.max_speed"}};
   EXPECT_TRUE(std::isnan(find_error_measure("still_fluid_speed")->evaluate(run, params)));
