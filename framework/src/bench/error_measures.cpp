@@ -179,6 +179,32 @@ std::vector<ErrorMeasure> make_registry() {
                                 p["initial_height"], p["initial_velocity"], gravity_of(run));
        }});
   r.push_back(
+      {"linear_motion",
+       "a position column against the straight line x0 + v t (a shell a script moves at a "
+       "constant velocity, or between two linear keys): max error over steps divided by the "
+       "distance |v| T travelled",
+       "analytic: the scripted motion", "1",
+       Schema::object("")
+           .field("column", Schema::string().doc("the position column, e.g. cup.center_x"))
+           .field("initial", Schema::number().unit("m").doc("x0: the position at t = 0"))
+           .field("velocity", Schema::number().unit("m/s").doc("v: the constant velocity")),
+       [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
+       [](const RunOutputs& run, const Json& p) {
+         return linear_motion_error(run.metrics.column("time"), run.metrics.column(p["column"]),
+                                    p["initial"], p["velocity"]);
+       }});
+  r.push_back(
+      {"edge_strain",
+       "the largest relative change of an edge's length over steps (kinematic_shell's "
+       "max_edge_strain): a rigid motion keeps every edge",
+       "analytic: 0 for a rigid motion (slerp keys, analytic spin and slide)", "1",
+       Schema::object("").field(
+           "column", Schema::string().doc("the strain column, e.g. paddle.max_edge_strain")),
+       [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
+       [](const RunOutputs& run, const Json& p) {
+         return edge_strain(run.metrics.column(p["column"]));
+       }});
+  r.push_back(
       {"leak_fraction",
        "largest share of the smoke found where it can never go (a region sealed off by "
        "a shell): max over steps of far / total",
@@ -452,6 +478,21 @@ double free_fall_error(const std::vector<double>& time, const std::vector<double
   const double drop = 0.5 * g * time.back() * time.back();
   if (!(drop > 0.0)) throw MeasureError("free_fall: no drop (zero gravity or no time)");
   return max_abs(error) / drop;
+}
+
+double linear_motion_error(const std::vector<double>& time, const std::vector<double>& position,
+                           double x0, double v) {
+  same_length(time, position);
+  std::vector<double> error(time.size());
+  for (size_t i = 0; i < time.size(); ++i) error[i] = position[i] - (x0 + v * time[i]);
+  const double distance = std::abs(v) * (time.empty() ? 0.0 : time.back());
+  if (!(distance > 0.0)) throw MeasureError("linear_motion: no distance travelled (v = 0 or no time)");
+  return max_abs(error) / distance;
+}
+
+double edge_strain(const std::vector<double>& strain) {
+  if (strain.empty()) throw MeasureError("metrics.csv has no rows (the run took no step)");
+  return max_abs(strain);
 }
 
 double projection_error(const std::vector<double>& velocity_error) {

@@ -1,5 +1,8 @@
 #include "shellflow/kinematic_shell/kinematic_shell.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "shellflow/geometry/mesh_checks.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/sdk/error.hpp"
@@ -54,6 +57,18 @@ KinematicShell::KinematicShell(const nlohmann::json& params, const sdk::Context&
     const double third = density * 0.5 * (b - a).cross(c - a).norm() / 3.0;
     for (int k = 0; k < 3; ++k) m_node_mass[triangles(t, k)] += third;
   }
+  // Each edge once, for the strain figure (a rigid motion keeps every length).
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = triangles(t, k), b = triangles(t, (k + 1) % 3);
+      m_edges.push_back({std::min(a, b), std::max(a, b)});
+    }
+  std::sort(m_edges.begin(), m_edges.end());
+  m_edges.erase(std::unique(m_edges.begin(), m_edges.end()), m_edges.end());
+  m_rest_length.resize(static_cast<Eigen::Index>(m_edges.size()));
+  for (size_t e = 0; e < m_edges.size(); ++e)
+    m_rest_length[static_cast<Eigen::Index>(e)] =
+        (m_rest.row(m_edges[e][1]) - m_rest.row(m_edges[e][0])).norm();
   m_time = 0.0;
   update();
 }
@@ -85,7 +100,19 @@ void KinematicShell::restore(sdk::StateReader& in) {
 }
 
 void KinematicShell::report(sdk::Metrics& out) const {
+  const auto& x = m_surface[0].positions;
   out.set("kinetic_energy", 0.5 * m_node_mass.dot(m_surface[0].velocities.rowwise().squaredNorm()));
+  const Eigen::Vector3d center = x.colwise().mean();
+  out.set("center_x", center.x());
+  out.set("center_y", center.y());
+  out.set("center_z", center.z());
+  double strain = 0.0;
+  for (size_t e = 0; e < m_edges.size(); ++e) {
+    const double rest = m_rest_length[static_cast<Eigen::Index>(e)];
+    if (rest > 0.0)  // a zero-length edge (a warned-of defect) has no strain to speak of
+      strain = std::max(strain, std::abs((x.row(m_edges[e][1]) - x.row(m_edges[e][0])).norm() - rest) / rest);
+  }
+  out.set("max_edge_strain", strain);
 }
 
 }  // namespace shellflow::kinematic_shell

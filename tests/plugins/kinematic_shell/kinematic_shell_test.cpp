@@ -5,6 +5,8 @@
 #include <dlfcn.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <string>
@@ -117,8 +119,10 @@ TEST(KinematicShell, StaticByDefaultAndAnalyticEnergy) {
   EXPECT_EQ(still.surfaces()[0].positions, still.rest_positions());
   sdk::Metrics m;
   still.report(m);
-  ASSERT_EQ(m.values().size(), 1u);
+  ASSERT_EQ(m.values().size(), 5u);  // kinetic energy, centre x/y/z, edge strain
   EXPECT_EQ(m.values()[0].second, 0.0);
+  EXPECT_EQ(m.values()[4].first, "max_edge_strain");
+  EXPECT_EQ(m.values()[4].second, 0.0);
 
   params["surface_density"] = 2.0;
   params["motion"] = {{"type", "analytic"}, {"velocity", {3.0, 0.0, 4.0}}};
@@ -131,6 +135,35 @@ TEST(KinematicShell, StaticByDefaultAndAnalyticEnergy) {
   // The grid is centred at the origin; after 0.25 s at v it is centred at v/4.
   const Eigen::RowVector3d centroid = moving.surfaces()[0].positions.colwise().mean();
   EXPECT_LT((centroid - Eigen::RowVector3d(0.75, 0, 1)).norm(), kRoundOff);
+  // The reported centre is that mean of the nodes.
+  EXPECT_EQ(m.values()[1].first, "center_x");
+  EXPECT_NEAR(m.values()[1].second, 0.75, kRoundOff);
+  EXPECT_NEAR(m.values()[2].second, 0.0, kRoundOff);
+  EXPECT_NEAR(m.values()[3].second, 1.0, kRoundOff);
+}
+
+TEST(KinematicShell, EdgeStrainIsRoundOffForRigidKeysAndTheShearOfLinearOnes) {
+  // Slerp keys move the grid rigidly: every edge keeps its length to round-off.
+  Json params = keyframe_params();
+  KinematicShell rigid(params, context());
+  double strain = 0.0;
+  sdk::Metrics m;
+  for (int n = 0; n < 30; ++n) {
+    rigid.advance(n / 12.0, 1.0 / 12.0, {});
+    m.clear();
+    rigid.report(m);
+    strain = std::max(strain, m.values()[4].second);
+  }
+  EXPECT_LT(strain, kRoundOff);
+  // Linear keys move each node on a straight line: a quarter turn about z halfway through is
+  // a shear. Halfway, the grid's 0.5 m edge along x (nodes (0, 0) → (1, 0): d = (0.5, 0)) runs
+  // from d to R d = (0, 0.5) and is (d + R d)/2 = (0.25, 0.25): 0.3536 m, strain 1 − 1/√2.
+  params["motion"]["interpolation"] = "linear";
+  KinematicShell shear(params, context());
+  shear.advance(0.0, 0.5, {});
+  m.clear();
+  shear.report(m);
+  EXPECT_NEAR(m.values()[4].second, 1.0 - std::sqrt(0.5), kRoundOff);
 }
 
 TEST(KinematicShell, BadKeysAreConfigErrorsNamingTheirPath) {

@@ -117,6 +117,19 @@ TEST(ErrorMeasures, IdleWorkIsTheLargestCount) {
   EXPECT_EQ(idle_work({0.0, 12.0, 3.0}), 12.0);
 }
 
+TEST(ErrorMeasures, LinearMotionIsTheLargestMissOverTheDistanceTravelled) {
+  // x = 1 + 0.25 t, the middle sample 0.001 off: 0.001 over 0.25 m/s × 2 s.
+  EXPECT_NEAR(linear_motion_error({0.5, 1.0, 2.0}, {1.125, 1.251, 1.5}, 1.0, 0.25), 0.002,
+              kRoundOff);
+  EXPECT_EQ(linear_motion_error({1.0, 2.0}, {0.75, 0.5}, 1.0, -0.25), 0.0);  // exact, backwards
+  EXPECT_THROW(linear_motion_error({1.0}, {1.0}, 1.0, 0.0), MeasureError);   // nothing moved
+}
+
+TEST(ErrorMeasures, EdgeStrainIsTheLargestOverSteps) {
+  EXPECT_EQ(edge_strain({0.0, 3e-16, 1e-16}), 3e-16);
+  EXPECT_THROW(edge_strain({}), MeasureError);
+}
+
 TEST(ErrorMeasures, LeakFractionIsTheWorstShareBeyondTheShell) {
   EXPECT_NEAR(leak_fraction({0.0, 1e-3, 2e-3}, {1.0, 1.0, 4.0}), 1e-3, kRoundOff);
   // No smoke at all (before a source starts) is no leak.

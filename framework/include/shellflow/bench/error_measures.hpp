@@ -43,6 +43,14 @@ double water_shape_error(double symmetric_difference, double initial_volume);
 double free_fall_error(const std::vector<double>& time, const std::vector<double>& height,
                        double h0, double v0, double g);
 
+/// A scripted straight-line motion: max over steps of |x − (x0 + v t)| divided by the
+/// distance |v| T travelled by the last time T. Known answer: 0 up to round-off.
+double linear_motion_error(const std::vector<double>& time, const std::vector<double>& position,
+                           double x0, double v);
+/// The largest relative change of an edge's length over steps. Known answer: 0 for a rigid
+/// motion, up to round-off.
+double edge_strain(const std::vector<double>& strain);
+
 /// Leak across a sealed shell: max over steps of `far` / `total` (smoke on the side of the
 /// shell it never reaches, over all smoke). Known answer: 0 (§3–4: nothing crosses a shell).
 double leak_fraction(const std::vector<double>& far, const std::vector<double>& total);
@@ -111,8 +119,7 @@ double hanging_strip_stretch(const std::vector<double>& center_height, double re
 
 /// Work a scene does not need ("cost follows need"): max over steps of a counter a plugin
 /// reports (grid_fluid's band_nodes with no shells, coupling_faces with no two-way shell,
-/// fmm_marched_nodes in smoke, ...). Known answer: 0. An empty column (never written)
-/// is no work.
+/// level_set_nodes in smoke, smoke_nodes in water, ...). Known answer: 0.
 double idle_work(const std::vector<double>& counter);
 
 // --- The registry that bench specs name -------------------------------------------------

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <memory>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "shellflow/kinematic_shell/motion.hpp"
@@ -26,7 +27,10 @@ class KinematicShell final : public sdk::SolidSolver {
   void advance(double t, double dt, std::span<const sdk::TriangleVectors> triangle_forces) override;
   void save(sdk::StateWriter& out) const override;
   void restore(sdk::StateReader& in) override;
-  /// "kinetic_energy" [J] with lumped node masses (a third of each triangle's mass).
+  /// "kinetic_energy" [J] with lumped node masses (a third of each triangle's mass); the
+  /// mean of the nodes, "center_x", "center_y", "center_z" [m] (a point that moves with a
+  /// rigid motion, on a straight line under linear keyframes); and "max_edge_strain", the
+  /// largest |L − L0| / L0 of the mesh's edges against the rest mesh (0 for a rigid motion).
   void report(sdk::Metrics& out) const override;
 
   double time() const { return m_time; }
@@ -37,6 +41,8 @@ class KinematicShell final : public sdk::SolidSolver {
   void update();
 
   sdk::Positions m_rest;
+  std::vector<std::array<int, 2>> m_edges;  ///< each edge of the mesh once
+  Eigen::VectorXd m_rest_length;            ///< per edge, at rest
   std::unique_ptr<Motion> m_motion;
   std::array<sdk::ShellSurface, 1> m_surface;
   Eigen::VectorXd m_node_mass;
