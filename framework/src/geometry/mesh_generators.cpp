@@ -32,19 +32,6 @@ void require(bool condition, const char* function, const std::string& what) {
   if (!condition) throw std::invalid_argument(std::string(function) + ": " + what);
 }
 
-/// Builds a mesh from row vectors gathered in std::vectors.
-SurfaceMesh to_mesh(const std::vector<Eigen::Vector3d>& nodes,
-                    const std::vector<std::array<int, 3>>& triangles) {
-  SurfaceMesh mesh;
-  mesh.positions.resize(static_cast<Eigen::Index>(nodes.size()), 3);
-  for (size_t i = 0; i < nodes.size(); ++i)
-    mesh.positions.row(static_cast<Eigen::Index>(i)) = nodes[i].transpose();
-  mesh.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
-  for (size_t t = 0; t < triangles.size(); ++t)
-    for (int c = 0; c < 3; ++c) mesh.triangles(static_cast<Eigen::Index>(t), c) = triangles[t][c];
-  return mesh;
-}
-
 /// Splits quad (a, b, c, d), counter-clockwise seen from its front, into two triangles
 /// along a–c (`along_ac`) or along b–d; both keep the quad's orientation.
 void add_quad(std::vector<std::array<int, 3>>& triangles, int a, int b, int c, int d,
@@ -119,6 +106,18 @@ Eigen::Vector3d vec3_field(const Json& spec, const SchemaJson& fields, const std
 }
 
 }  // namespace
+
+SurfaceMesh to_mesh(const std::vector<Eigen::Vector3d>& nodes,
+                    const std::vector<std::array<int, 3>>& triangles) {
+  SurfaceMesh mesh;
+  mesh.positions.resize(static_cast<Eigen::Index>(nodes.size()), 3);
+  for (size_t i = 0; i < nodes.size(); ++i)
+    mesh.positions.row(static_cast<Eigen::Index>(i)) = nodes[i].transpose();
+  mesh.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  for (size_t t = 0; t < triangles.size(); ++t)
+    for (int c = 0; c < 3; ++c) mesh.triangles(static_cast<Eigen::Index>(t), c) = triangles[t][c];
+  return mesh;
+}
 
 SurfaceMesh make_grid(double width, double height, int nodes_u, int nodes_v, GridPattern pattern) {
   require(width > 0 && height > 0, "make_grid", "width and height must be positive");

@@ -113,13 +113,7 @@ SurfaceMesh import_with_assimp(const std::filesystem::path& file) {
     spdlog::warn("{}: {} points or lines left out (a shell is made of its triangles only)",
                  file.string(), skipped_primitives);
 
-  SurfaceMesh out;
-  out.positions.resize(static_cast<Eigen::Index>(nodes.size()), 3);
-  for (size_t i = 0; i < nodes.size(); ++i)
-    out.positions.row(static_cast<Eigen::Index>(i)) = nodes[i].transpose();
-  out.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
-  for (size_t t = 0; t < triangles.size(); ++t)
-    for (int c = 0; c < 3; ++c) out.triangles(static_cast<Eigen::Index>(t), c) = triangles[t][c];
+  SurfaceMesh out = to_mesh(nodes, triangles);
   out.origin = std::move(origin);
   return out;
 }

@@ -6,7 +6,6 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <array>
 #include <cstdint>
@@ -16,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "scratch_folder.hpp"
 #include "shellflow/geometry/mesh_checks.hpp"
 #include "shellflow/sdk/error.hpp"
 
@@ -45,23 +45,11 @@ double enclosed_volume(const SurfaceMesh& m) {
   return v;
 }
 
-class MeshImport : public ::testing::Test {
+class MeshImport : public shellflow::testing::ScratchFolder {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    m_dir = fs::temp_directory_path() / ("shellflow_mesh_import_" + std::string(info->name()) +
-                                         "_" + std::to_string(::getpid()));
-    fs::create_directories(m_dir);
-  }
-  void TearDown() override { fs::remove_all(m_dir); }
-  fs::path write(const std::string& name, const std::string& bytes) {
-    const auto file = m_dir / name;
-    std::ofstream(file, std::ios::binary) << bytes;
-    return file;
-  }
   /// The tetrahedron as ASCII STL; `corner_text` replaces one corner's coordinates.
   fs::path ascii_stl(const std::string& name, int bad_facet = -1, int bad_corner = -1,
-                     const std::string& corner_text = "") {
+                     const std::string& corner_text = "") const {
     std::string s = "solid tetra\n";
     for (int f = 0; f < 4; ++f) {
       s += "facet normal 0 0 0\nouter loop\n";
@@ -77,7 +65,7 @@ class MeshImport : public ::testing::Test {
     }
     return write(name, s + "endsolid tetra\n");
   }
-  std::string load_error(const fs::path& file) {
+  std::string load_error(const fs::path& file) const {
     try {
       load_mesh_file(file);
     } catch (const IoError& e) {
@@ -87,7 +75,6 @@ class MeshImport : public ::testing::Test {
     ADD_FAILURE() << "read without error: " << file;
     return "";
   }
-  fs::path m_dir;
 };
 
 TEST_F(MeshImport, AsciiStlTetrahedronComesBackClosedWithItsVolume) {

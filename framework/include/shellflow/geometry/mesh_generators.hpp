@@ -16,6 +16,7 @@
 //  - box, open_box: centred at the origin. open_cylinder: axis +y, base at y = 0.
 
 #include <Eigen/Geometry>
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -43,6 +44,11 @@ struct SurfaceMesh {
   sdk::Triangles triangles;
   std::shared_ptr<const MeshOrigin> origin;  ///< set by load_obj and load_mesh_file
 };
+
+/// A mesh of `nodes` and `triangles` (node indices) gathered in std::vectors, as the
+/// generators and the file readers build them.
+SurfaceMesh to_mesh(const std::vector<Eigen::Vector3d>& nodes,
+                    const std::vector<std::array<int, 3>>& triangles);
 
 /// How each grid quad is split into two triangles.
 enum class GridPattern {
