@@ -244,6 +244,23 @@ TEST_F(HandMadeRun, FreeFallThroughTheRegistryReadsGravityFromRunJson) {
   EXPECT_TRUE(std::isnan(find_error_measure("still_fluid_speed")->evaluate(run, params)));
 }
 
+TEST_F(HandMadeRun, VolumeDriftAtItsLargestOrAtTheEndThroughTheRegistry) {
+  // V(0) = 2 m³: +0.1 m³ at step 2 (5%), −0.02 m³ at the end (1%).
+  std::ofstream csv(m_dir / "metrics.csv");
+  csv << "step,frame,time,dt,air.water_volume,air.water_volume_change\n"
+      << "1,0,0.1,0.1,2.0,0.0\n2,0,0.2,0.1,2.1,0.1\n3,0,0.3,0.1,1.98,-0.02\n";
+  csv.close();
+  const auto run = RunOutputs::read(m_dir);
+  const nlohmann::json scene = {{"fluid", {{"name", "air"}, {"water", nlohmann::json::object()}}}};
+  const auto* drift = find_error_measure("water_volume_drift");
+  ASSERT_NE(drift, nullptr);
+  for (const auto& [at, expected] : {std::pair{"max", 0.05}, std::pair{"end", 0.01}}) {
+    nlohmann::json params = {{"at", at}};
+    ASSERT_EQ(drift->bind(params, scene), "") << at;
+    EXPECT_NEAR(drift->evaluate(run, params), expected, kRoundOff) << at;
+  }
+}
+
 TEST_F(HandMadeRun, ProjectionAndEnergyMeasuresThroughTheRegistry) {
   std::ofstream csv(m_dir / "metrics.csv");
   csv << "step,frame,time,dt,air.vortex.rms_error,air.vortex.max_error,air.kinetic_energy\n"
