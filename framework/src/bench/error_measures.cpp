@@ -239,7 +239,13 @@ std::vector<ErrorMeasure> make_registry() {
            .field("from_T",
                   Schema::number(1.5).doc("first T compared (their gate took time to "
                                           "lift: earlier fronts lag any instant release)"))
-           .field("to_T", Schema::number(3.0).doc("last T compared")),
+           .field("to_T", Schema::number(3.0).doc("last T compared"))
+           .field("release_delay",
+                  Schema::string("none").one_of({"none", "measured"}).doc(
+                      "'measured': take out the experiment's release delay, the mean of "
+                      "T_data − T_sim at their Z over their points before from_T, and compare "
+                      "the front read that much later (a prediction over [from_T, to_T]: the "
+                      "delay is measured on the earlier points alone)")),
        [](Json& params, const Json& scene) -> std::string {
          if (params["from_T"].get<double>() >= params["to_T"].get<double>())
            return "\"from_T\" must be below \"to_T\"";
@@ -254,7 +260,7 @@ std::vector<ErrorMeasure> make_registry() {
          return dam_break_front_error(run.metrics.column("time"), run.metrics.column(p["front"]),
                                       p["width"], gravity_of(run),
                                       read_front_data(p["data"].get<std::string>()), p["from_T"],
-                                      p["to_T"]);
+                                      p["to_T"], p["release_delay"] == "measured");
        }});
   r.push_back(
       {"standing_wave_period",
@@ -568,7 +574,7 @@ std::vector<FrontSample> read_front_data(const std::filesystem::path& file) {
 
 double dam_break_front_error(const std::vector<double>& time, const std::vector<double>& front,
                              double a, double g, const std::vector<FrontSample>& data,
-                             double T_from, double T_to) {
+                             double T_from, double T_to, bool take_out_release_delay) {
   same_length(time, front);
   const double scale = std::sqrt(2.0 * g / a);
   std::vector<double> T(time.size()), Z(time.size());
@@ -576,10 +582,28 @@ double dam_break_front_error(const std::vector<double>& time, const std::vector<
     T[i] = time[i] * scale;
     Z[i] = front[i] / a;
   }
+  double delay = 0.0;
+  if (take_out_release_delay) {
+    // T_sim at which the simulated front first reaches each of their Z before T_from.
+    int count = 0;
+    for (const auto& s : data) {
+      if (s.T >= T_from) continue;
+      for (size_t i = 1; i < Z.size(); ++i)
+        if (Z[i] >= s.Z && Z[i] > Z[i - 1]) {
+          delay += s.T - (T[i - 1] + (T[i] - T[i - 1]) * (s.Z - Z[i - 1]) / (Z[i] - Z[i - 1]));
+          ++count;
+          break;
+        }
+    }
+    if (count == 0)
+      throw MeasureError("dam_break_front: the front reaches none of the data's Z before "
+                         "from_T, so no release delay can be measured");
+    delay /= count;
+  }
   std::vector<double> errors;
   for (const auto& s : data)
     if (s.T >= T_from && s.T <= T_to && s.T <= T.back())
-      errors.push_back((linear(T, Z, s.T) - s.Z) / s.Z);
+      errors.push_back((linear(T, Z, s.T - delay) - s.Z) / s.Z);
   if (errors.empty())
     throw MeasureError("dam_break_front: the run ends at T = " + std::to_string(T.back()) +
                        ", before the first data point in [from_T, to_T]: run longer");

@@ -65,11 +65,13 @@ struct FrontSample {
 std::vector<FrontSample> read_front_data(const std::filesystem::path& file);
 
 /// Dam-break front against data: max over the data points with T in [T_from, T_to] (and
-/// within the run) of |Z_sim(T) − Z| / Z, Z_sim interpolated linearly in T between steps;
-/// `front` is the front's distance from the back wall [m], `a` the column's width [m].
+/// within the run) of |Z_sim(T − δ) − Z| / Z, Z_sim interpolated linearly in T between steps;
+/// `front` is the front's distance from the back wall [m], `a` the column's width [m]. δ = 0,
+/// or with `take_out_release_delay` the experiment's release delay: the mean over their
+/// points before T_from of T − T_sim(Z), T_sim(Z) when the simulated front first reaches Z.
 double dam_break_front_error(const std::vector<double>& time, const std::vector<double>& front,
                              double a, double g, const std::vector<FrontSample>& data,
-                             double T_from, double T_to);
+                             double T_from, double T_to, bool take_out_release_delay = false);
 
 /// Standing wave's period against linear theory, ω² = g k tanh(k h) with k = 2π/λ:
 /// |P − P_theory| / P_theory, P from the zero crossings of `surface` − `depth` (linear
