@@ -209,7 +209,8 @@ TEST_F(Bench, SmallVersionOfEverySpecRuns) {
       for (const auto& m : spec.at("measures")) {
         const std::string label = m.at("label");
         coupling = coupling || label == "coupling_iterations";
-        for (const auto& row : rows) EXPECT_EQ(std::stod(row.at(label)), 0.0) << name << " " << label;
+        for (const auto& row : rows)
+          EXPECT_EQ(std::stod(row.at(label)), 0.0) << name << " " << label;
       }
       EXPECT_TRUE(coupling) << name;
     }

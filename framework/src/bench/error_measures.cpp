@@ -492,7 +492,8 @@ double linear_motion_error(const std::vector<double>& time, const std::vector<do
   std::vector<double> error(time.size());
   for (size_t i = 0; i < time.size(); ++i) error[i] = position[i] - (x0 + v * time[i]);
   const double distance = std::abs(v) * (time.empty() ? 0.0 : time.back());
-  if (!(distance > 0.0)) throw MeasureError("linear_motion: no distance travelled (v = 0 or no time)");
+  if (!(distance > 0.0))
+    throw MeasureError("linear_motion: no distance travelled (v = 0 or no time)");
   return max_abs(error) / distance;
 }
 

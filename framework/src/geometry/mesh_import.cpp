@@ -9,7 +9,6 @@
 #include <array>
 #include <cctype>
 #include <cmath>
-#include <cstring>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -36,11 +35,10 @@ struct SceneRelease {
 /// a glTF's parts lie where the artist placed them; nothing else changes the geometry (no
 /// degenerate-triangle removal: check_mesh() reports those as each solid decides).
 SurfaceMesh import_with_assimp(const std::filesystem::path& file) {
-  const unsigned flags = aiProcess_Triangulate | aiProcess_PreTransformVertices |
-                         aiProcess_SortByPType;
+  const unsigned flags =
+      aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType;
   std::unique_ptr<const aiScene, SceneRelease> scene(aiImportFile(file.string().c_str(), flags));
-  if (!scene)
-    throw IoError(file.string() + ": cannot read the mesh file: " + aiGetErrorString());
+  if (!scene) throw IoError(file.string() + ": cannot read the mesh file: " + aiGetErrorString());
 
   struct Corner {
     int vertex;    ///< 1-based over the file's meshes, in assimp's order

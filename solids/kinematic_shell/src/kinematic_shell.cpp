@@ -110,7 +110,8 @@ void KinematicShell::report(sdk::Metrics& out) const {
   for (size_t e = 0; e < m_edges.size(); ++e) {
     const double rest = m_rest_length[static_cast<Eigen::Index>(e)];
     if (rest > 0.0)  // a zero-length edge (a warned-of defect) has no strain to speak of
-      strain = std::max(strain, std::abs((x.row(m_edges[e][1]) - x.row(m_edges[e][0])).norm() - rest) / rest);
+      strain = std::max(
+          strain, std::abs((x.row(m_edges[e][1]) - x.row(m_edges[e][0])).norm() - rest) / rest);
   }
   out.set("max_edge_strain", strain);
 }

@@ -332,9 +332,10 @@ DamBreak run_dam_break(int resolution, int row, double cfl) {
     if (s.T < 1.5 || s.T > out.T.back()) continue;
     const double z = interpolate(out.T, out.Z, s.T - out.early_offset);
     const double error = (z - s.Z) / s.Z;
-    std::printf("[  figure  ] T = %.2f, release delay %.3f out: Z = %.3f, Martin and Moyce %.2f "
-                "(%+.1f%%)\n",
-                s.T, out.early_offset, z, s.Z, 100.0 * error);
+    std::printf(
+        "[  figure  ] T = %.2f, release delay %.3f out: Z = %.3f, Martin and Moyce %.2f "
+        "(%+.1f%%)\n",
+        s.T, out.early_offset, z, s.Z, 100.0 * error);
     if (std::abs(error) > std::abs(out.delayed_worst_error)) out.delayed_worst_error = error;
   }
   return out;

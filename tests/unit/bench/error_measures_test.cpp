@@ -192,8 +192,9 @@ TEST(ErrorMeasures, ArchimedesDraftIsTheWindowsMeanAgainstTheDraft) {
   for (int n = 0; n <= 400; ++n) {  // 2 s, 100 steps a period
     t.push_back(n * period / 100.0);
     level.push_back(0.5 + 0.002 * n);  // the level rises too: only the difference counts
-    const double offset = t.back() < 1.0 ? (n == 3 ? std::nan("") : 0.4)
-                                         : 0.16 + 0.01 * std::sin(2.0 * std::numbers::pi * t.back() / period);
+    const double offset = t.back() < 1.0
+                              ? (n == 3 ? std::nan("") : 0.4)
+                              : 0.16 + 0.01 * std::sin(2.0 * std::numbers::pi * t.back() / period);
     lowest.push_back(level.back() - offset);
   }
   EXPECT_NEAR(archimedes_draft_error(t, level, lowest, d, 2.0 * period), (0.16 - d) / d, kRoundOff);
@@ -312,8 +313,7 @@ TEST_F(HandMadeRun, ArchimedesDraftThroughTheRegistryAveragesTheSecondHalf) {
   const auto run = RunOutputs::read(m_dir);
   const auto* measure = find_error_measure("archimedes_draft");
   ASSERT_NE(measure, nullptr);
-  const nlohmann::json scene = {{"fluid", {{"name", "water"}}},
-                                {"solids", {{{"name", "shells"}}}}};
+  const nlohmann::json scene = {{"fluid", {{"name", "water"}}}, {"solids", {{{"name", "shells"}}}}};
   nlohmann::json params = {
       {"level", "water.level.extent"}, {"lowest", "shells.box.lowest"}, {"draft", 0.15}};
   ASSERT_EQ(measure->bind(params, scene), "");

@@ -55,11 +55,12 @@ class MeshImport : public shellflow::testing::ScratchFolder {
       s += "facet normal 0 0 0\nouter loop\n";
       for (int c = 0; c < 3; ++c) {
         const auto& p = kCorners[static_cast<size_t>(kFaces[f][c])];
-        s += "vertex " + (f == bad_facet && c == bad_corner
-                              ? corner_text
-                              : std::to_string(p[0]) + " " + std::to_string(p[1]) + " " +
-                                    std::to_string(p[2])) +
-             "\n";
+        s +=
+            "vertex " +
+            (f == bad_facet && c == bad_corner
+                 ? corner_text
+                 : std::to_string(p[0]) + " " + std::to_string(p[1]) + " " + std::to_string(p[2])) +
+            "\n";
       }
       s += "endloop\nendfacet\n";
     }
@@ -84,8 +85,7 @@ TEST_F(MeshImport, AsciiStlTetrahedronComesBackClosedWithItsVolume) {
   EXPECT_EQ(mesh.triangles.rows(), 4);
   // Closed and 2-manifold: no defect at all (every edge in exactly two triangles).
   const auto report = check_mesh(mesh, kAllErrors, "/mesh");
-  EXPECT_EQ(report.degenerate_triangles + report.non_manifold_edges +
-                report.unreferenced_vertices,
+  EXPECT_EQ(report.degenerate_triangles + report.non_manifold_edges + report.unreferenced_vertices,
             0);
   // Orientation kept: the enclosed volume is +4 to the file's float precision (the
   // coordinates are small integers: exact).
@@ -165,7 +165,8 @@ TEST_F(MeshImport, GltfTetrahedronIsPlacedByItsNodeTransform) {
     "nodes": [{"mesh": 0, "translation": [10, 20, 30]}],
     "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "mode": 4}]}],
     "buffers": [{"byteLength": 72,
-                 "uri": "data:application/octet-stream;base64,)" + base64(buffer) + R"("}],
+                 "uri": "data:application/octet-stream;base64,)" +
+                           base64(buffer) + R"("}],
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 48},
                     {"buffer": 0, "byteOffset": 48, "byteLength": 24}],
     "accessors": [
@@ -184,7 +185,8 @@ TEST_F(MeshImport, GltfTetrahedronIsPlacedByItsNodeTransform) {
 TEST_F(MeshImport, NonFiniteCornerNamesTheFileVertexAndTriangle) {
   // Facet 2, corner 2 (vertex 5 of the STL's 12) reads "nan": assimp passes it on as NaN.
   const std::string e = load_error(ascii_stl("nan.stl", 1, 1, "nan 1 0"));
-  EXPECT_THAT(e, HasSubstr("vertex 5 (triangle 2, corner 2) has a non-finite coordinate (x = nan)"));
+  EXPECT_THAT(e,
+              HasSubstr("vertex 5 (triangle 2, corner 2) has a non-finite coordinate (x = nan)"));
   EXPECT_THAT(load_error(ascii_stl("inf.stl", 3, 0, "2 inf 0")),
               HasSubstr("vertex 10 (triangle 4, corner 1) has a non-finite coordinate (y = inf)"));
 }

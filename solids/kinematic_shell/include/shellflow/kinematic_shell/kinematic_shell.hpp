@@ -6,8 +6,8 @@
 
 #include <array>
 #include <memory>
-#include <vector>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "shellflow/kinematic_shell/motion.hpp"
 #include "shellflow/sdk/context.hpp"
