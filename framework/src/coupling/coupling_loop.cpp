@@ -207,19 +207,9 @@ void CouplingLoop::save(sdk::StateWriter& out) const {
   // The solvers' own states, each in its own length-prefixed block so that a solver
   // reading less or more than it wrote is caught here, not by the next solver.
   out.write<std::uint8_t>(m_fluid != nullptr);
-  if (m_fluid) {
-    sdk::StateBuffer fluid;
-    sdk::StateWriter w(fluid);
-    m_fluid->save(w);
-    out.write_bytes(fluid);
-  }
+  if (m_fluid) out.write_block([&](sdk::StateWriter& w) { m_fluid->save(w); });
   out.write<std::uint64_t>(m_solids.size());
-  for (const auto* solid : m_solids) {
-    sdk::StateBuffer state;
-    sdk::StateWriter w(state);
-    solid->save(w);
-    out.write_bytes(state);
-  }
+  for (const auto* solid : m_solids) out.write_block([&](sdk::StateWriter& w) { solid->save(w); });
 }
 
 void CouplingLoop::restore(sdk::StateReader& in) {

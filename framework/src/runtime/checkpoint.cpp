@@ -23,8 +23,8 @@ constexpr char kMagic[8] = {'S', 'F', 'C', 'K', 'P', 'T', '0', '1'};
 constexpr const char* kPrefix = "step_";
 constexpr const char* kExtension = ".ckpt";
 
-std::uint64_t fnv1a(const std::uint8_t* data, size_t n) {
-  std::uint64_t h = 14695981039346656037ull;
+std::uint64_t fnv1a(const std::uint8_t* data, size_t n,
+                    std::uint64_t h = 14695981039346656037ull) {  // h: to continue a hash
   for (size_t i = 0; i < n; ++i) {
     h ^= data[i];
     h *= 1099511628211ull;
@@ -64,17 +64,24 @@ fs::path write_checkpoint(const fs::path& run_dir, const CheckpointMeta& meta,
                   {"last_frame", meta.last_frame},
                   {"metrics_rows", meta.metrics_rows}};
   const std::string text = j.dump();
-  sdk::StateBuffer bytes;
-  sdk::StateWriter out(bytes);
+  // Magic, the metadata and the state's length, then the state itself, then the checksum of
+  // all of it: the state goes to the file from where it is (a copy of a large grid's state
+  // would double the run's memory for the moment of the write).
+  sdk::StateBuffer head;
+  sdk::StateWriter out(head);
   std::array<char, sizeof kMagic> magic;
   std::copy(std::begin(kMagic), std::end(kMagic), magic.begin());
   out.write(magic);
   out.write_bytes(sdk::StateBuffer(text.begin(), text.end()));
-  out.write_bytes(state);
-  out.write<std::uint64_t>(fnv1a(bytes.data(), bytes.size()));
+  out.write<std::uint64_t>(state.size());
+  const std::uint64_t checksum =
+      fnv1a(state.data(), state.size(), fnv1a(head.data(), head.size()));
   sdk::write_file_atomically(file, [&](std::ostream& stream) {
-    stream.write(reinterpret_cast<const char*>(bytes.data()),
-                 static_cast<std::streamsize>(bytes.size()));
+    stream.write(reinterpret_cast<const char*>(head.data()),
+                 static_cast<std::streamsize>(head.size()));
+    stream.write(reinterpret_cast<const char*>(state.data()),
+                 static_cast<std::streamsize>(state.size()));
+    stream.write(reinterpret_cast<const char*>(&checksum), sizeof checksum);
   });
 
   const auto all = list_checkpoints(run_dir);

@@ -37,6 +37,17 @@ class StateWriter {
     write<std::uint64_t>(bytes.size());
     append(bytes.data(), bytes.size());
   }
+  /// The same length-prefixed block as write_bytes(), its bytes appended by `fill(*this)` in
+  /// place: a solver's state is not built in a buffer of its own and then copied (a
+  /// checkpoint of a large grid would hold its state twice).
+  template <class Fill>
+  void write_block(Fill&& fill) {
+    const size_t at = m_buffer.size();
+    write<std::uint64_t>(0);
+    fill(*this);
+    const std::uint64_t n = m_buffer.size() - at - sizeof(std::uint64_t);
+    std::memcpy(m_buffer.data() + at, &n, sizeof n);
+  }
 
  private:
   void append(const void* p, size_t n) {
