@@ -40,11 +40,6 @@ SurfaceMesh import_with_assimp(const std::filesystem::path& file) {
   std::unique_ptr<const aiScene, SceneRelease> scene(aiImportFile(file.string().c_str(), flags));
   if (!scene) throw IoError(file.string() + ": cannot read the mesh file: " + aiGetErrorString());
 
-  struct Corner {
-    int vertex;    ///< 1-based over the file's meshes, in assimp's order
-    int triangle;  ///< 1-based
-    int corner;    ///< 1..3
-  };
   std::vector<Eigen::Vector3d> nodes;
   std::vector<std::array<int, 3>> triangles;
   auto origin = std::make_shared<MeshOrigin>();
@@ -71,23 +66,22 @@ SurfaceMesh import_with_assimp(const std::filesystem::path& file) {
                         ", which the file does not have");
         if (node_of[v] < 0) {
           const aiVector3D& p = mesh.mVertices[v];
-          const Corner at{vertex_base + static_cast<int>(v) + 1, number, c + 1};
+          const int vertex = vertex_base + static_cast<int>(v) + 1;  // 1-based, assimp's order
           const std::array<double, 3> xyz{p.x, p.y, p.z};
           static constexpr const char* kAxis[3] = {"x", "y", "z"};
           for (int axis = 0; axis < 3; ++axis)
             if (!std::isfinite(xyz[axis])) {
               std::ostringstream value;
               value << xyz[axis];
-              throw IoError(file.string() + ": vertex " + std::to_string(at.vertex) +
-                            " (triangle " + std::to_string(at.triangle) + ", corner " +
-                            std::to_string(at.corner) + ") has a non-finite coordinate (" +
-                            kAxis[axis] + " = " + value.str() +
+              throw IoError(file.string() + ": vertex " + std::to_string(vertex) + " (triangle " +
+                            std::to_string(number) + ", corner " + std::to_string(c + 1) +
+                            ") has a non-finite coordinate (" + kAxis[axis] + " = " + value.str() +
                             "); every coordinate must be a finite number");
             }
           const auto [it, added] = node_at.emplace(xyz, static_cast<int>(nodes.size()));
           if (added) {
             nodes.emplace_back(xyz[0], xyz[1], xyz[2]);
-            origin->vertex_number.push_back(at.vertex);
+            origin->vertex_number.push_back(vertex);
             origin->vertex_line.push_back(0);
           }
           node_of[v] = it->second;
@@ -132,13 +126,13 @@ std::vector<std::string> mesh_file_extensions() {
 }
 
 SurfaceMesh load_mesh_file(const std::filesystem::path& file) {
+  const std::string ext = lower_extension(file);
+  if (ext == ".obj") return load_obj(file);  // which checks the file itself
   std::error_code ec;
   if (!std::filesystem::is_regular_file(file, ec))
     throw IoError(file.string() +
                   ": cannot read the mesh file: no such file (check the path; "
                   "a relative path is taken from the scene file's folder)");
-  const std::string ext = lower_extension(file);
-  if (ext == ".obj") return load_obj(file);
   if (ext.empty() || !aiIsExtensionSupported(ext.c_str()))
     throw IoError(file.string() + ": '" + ext +
                   "' is not a mesh format shellflow reads; use .obj, .stl, .ply, .gltf, "

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "shellflow/geometry/mesh_checks.hpp"
+#include "shellflow/geometry/mesh_edges.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/sdk/error.hpp"
 
@@ -58,13 +59,10 @@ KinematicShell::KinematicShell(const nlohmann::json& params, const sdk::Context&
     for (int k = 0; k < 3; ++k) m_node_mass[triangles(t, k)] += third;
   }
   // Each edge once, for the strain figure (a rigid motion keeps every length).
+  std::vector<std::array<int, 3>> corners(static_cast<size_t>(triangles.rows()));
   for (Eigen::Index t = 0; t < triangles.rows(); ++t)
-    for (int k = 0; k < 3; ++k) {
-      const int a = triangles(t, k), b = triangles(t, (k + 1) % 3);
-      m_edges.push_back({std::min(a, b), std::max(a, b)});
-    }
-  std::sort(m_edges.begin(), m_edges.end());
-  m_edges.erase(std::unique(m_edges.begin(), m_edges.end()), m_edges.end());
+    corners[static_cast<size_t>(t)] = {triangles(t, 0), triangles(t, 1), triangles(t, 2)};
+  m_edges = geometry::MeshEdges(corners).edges;
   m_rest_length.resize(static_cast<Eigen::Index>(m_edges.size()));
   for (size_t e = 0; e < m_edges.size(); ++e)
     m_rest_length[static_cast<Eigen::Index>(e)] =

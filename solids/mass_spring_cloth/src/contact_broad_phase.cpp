@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "mass_spring_cloth/mesh_edges.hpp"
+#include "shellflow/geometry/mesh_edges.hpp"
 
 namespace shellflow::cloth {
 
@@ -24,7 +24,7 @@ void ContactBroadPhase::set_topology(const std::vector<std::array<int, 3>>& tria
   for (const auto& t : triangles) node_count = std::max({node_count, t[0] + 1, t[1] + 1, t[2] + 1});
 
   // Each edge is owned by the first triangle that has it.
-  const MeshEdges mesh(triangles);
+  const geometry::MeshEdges mesh(triangles);
   m_edges = mesh.edges;
   std::vector<std::vector<int>> owned_edges(triangle_count), owned_nodes(triangle_count);
   for (int e = 0; e < static_cast<int>(m_edges.size()); ++e)

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <numeric>
 
-#include "mass_spring_cloth/mesh_edges.hpp"
+#include "shellflow/geometry/mesh_edges.hpp"
 
 namespace shellflow::cloth {
 
@@ -28,9 +28,9 @@ constexpr int kParallelThreshold = 2048;
 
 }  // namespace
 
-struct SelfCollisionHierarchy::Adjacency : MeshEdges {
+struct SelfCollisionHierarchy::Adjacency : geometry::MeshEdges {
   Adjacency(const std::vector<std::array<int, 3>>& triangles, int node_count)
-      : MeshEdges(triangles) {
+      : geometry::MeshEdges(triangles) {
     const int n = static_cast<int>(triangles.size());
     triangle_stamp.assign(n, -1);
     visited_stamp.assign(n, -1);

@@ -1,13 +1,14 @@
 #pragma once
 // MeshEdges: the edges of a triangle mesh, each once, sorted by their (low, high) nodes,
 // with the triangles at each edge in increasing order (so the first is the edge's owner
-// in ContactBroadPhase's feature assignment) and the three edges of each triangle. Shared
-// by the contact broad phase and the self-collision hierarchy's disc test.
+// in the cloth's contact feature assignment) and the three edges of each triangle. Shared
+// by the cloth's contact broad phase and self-collision hierarchy, and kinematic_shell's
+// edge strain.
 
 #include <array>
 #include <vector>
 
-namespace shellflow::cloth {
+namespace shellflow::geometry {
 
 struct MeshEdges {
   explicit MeshEdges(const std::vector<std::array<int, 3>>& triangles);
@@ -17,4 +18,4 @@ struct MeshEdges {
   std::vector<int> edge_start, edge_triangles;     ///< CSR: triangles at each edge
 };
 
-}  // namespace shellflow::cloth
+}  // namespace shellflow::geometry

@@ -1,8 +1,8 @@
-#include "mass_spring_cloth/mesh_edges.hpp"
+#include "shellflow/geometry/mesh_edges.hpp"
 
 #include <algorithm>
 
-namespace shellflow::cloth {
+namespace shellflow::geometry {
 
 MeshEdges::MeshEdges(const std::vector<std::array<int, 3>>& triangles) {
   const int n = static_cast<int>(triangles.size());
@@ -30,4 +30,4 @@ MeshEdges::MeshEdges(const std::vector<std::array<int, 3>>& triangles) {
   }
 }
 
-}  // namespace shellflow::cloth
+}  // namespace shellflow::geometry
