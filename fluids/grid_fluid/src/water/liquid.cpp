@@ -78,6 +78,7 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   m_extrapolation_width = width * grid.dx();
   m_surface.ghost_fluid = params.at("surface_pressure").get<std::string>() == "ghost_fluid";
   for (int s = 0; s < 6; ++s) m_walls[s] = boundary.side(s / 2, s % 2).type == BoundaryType::Wall;
+  m_particles.set_walls(m_walls);
   fill_initial_water(params.at("initial"), up, "/water/initial", m_level_set);
   const auto& sources = params.at("sources");
   for (size_t i = 0; i < sources.size(); ++i)

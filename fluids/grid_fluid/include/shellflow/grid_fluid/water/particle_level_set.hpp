@@ -9,7 +9,11 @@
 //              path is checked against the shells at n (the stationary object). A water
 //              particle nearer a shell than its collision distance, or whose forward move
 //              met one, has the normal component of its velocity clamped to at least the
-//              object's, so it gets no nearer
+//              object's, so it gets no nearer; a water particle stays its collision
+//              distance off the domain's walls (or no nearer than it was), as PhysBAM's
+//              Adjust_Particle_For_Domain_Boundaries keeps it: a wall node's velocity has
+//              no normal part, so one on a wall's plane stayed there and held a film of
+//              water on the wall
 //   collide()  the paths against the shells moving from n to n+1: the particle's path
 //              and each triangle's linear motion are tested together (the relative motion
 //              of a point against a moving triangle, geometry/swept_point), so a shell
@@ -26,14 +30,14 @@
 //              spheres raise it, and of the two the value nearer zero wins (Enright 2002,
 //              §3.3); before and after reinitialisation
 //   adjust()   radii to s φ(x) clamped to [0.1Δx, 0.5Δx]; particles deeper than the seeding
-//              band deleted; water particles still more than Δx beyond the surface after
-//              the second correction are removed from the level set: spray the grid
-//              cannot hold (counted as `removed`, and kept as spray drops, below). Escaped
-//              particles nearer than that are kept: removing every particle escaped by
-//              more than its radius, as a first version did, removed nearly all of them
-//              after one correction (a correction leaves φ at the particle near
-//              0.6Δx − r), and Zalesak's sphere (particle_level_set_test) lost all its
-//              volume with them as without them
+//              band deleted; air particles escaped by more than 1.5 radii deleted (no
+//              bubbles: the pressure keeps none, PhysBAM's water examples drop them too);
+//              water particles still more than Δx beyond the surface after the second
+//              correction removed from the level set: spray the grid cannot hold (counted
+//              as `removed`, and kept as spray drops, below). Water particles nearer than
+//              that are kept: a correction leaves φ at an escaped particle near 0.6Δx − r,
+//              and removed at 1.5 radii they took sharp features' water with them
+//              (Zalesak's sphere at 50³ lost 28 % in a revolution against 1.4 %)
 //   reseed_if_due()  every `reseed_every` frames: band cells holding fewer than `per_cell`
 //              particles get new ones (seeded ignoring the shells, then their sign taken
 //              from φ as seen from them, §4.4.2; water ones moved out to their collision
@@ -51,6 +55,7 @@
 // attribute (no per-particle allocation); a particle's random numbers come from its cell
 // and the seeding round, so runs are the same on any thread count.
 
+#include <array>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -91,6 +96,9 @@ class ParticleLevelSet {
   ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& grid, double fps,
                    const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero());
   static sdk::Schema schema();
+  /// The domain's sides that are walls (−x, +x, −y, +y, −z, +z): water particles keep their
+  /// collision distance off them as off a shell.
+  void set_walls(const std::array<bool, 6>& walls) { m_walls = walls; }
 
   bool enabled() const { return m_per_cell > 0; }
   std::int64_t size() const { return static_cast<std::int64_t>(m_x.size()); }
@@ -161,6 +169,7 @@ class ParticleLevelSet {
   void advance_spray(double dt, const ShellGeometry& shells);
   /// Keeps the particles with keep[i] != 0, in order (and their start positions and path
   /// velocities while those are kept in step).
+  void keep_off_walls(const Eigen::Vector3d& from, Eigen::Vector3d& to, double collision) const;
   void compact(const std::vector<std::uint8_t>& keep);
   std::int64_t cell_of(std::int64_t i) const;
   /// Whether the cell holding x has its lowest corner flagged in `node_flags` (a shell
@@ -177,12 +186,13 @@ class ParticleLevelSet {
   std::int64_t m_last_frame = 0;  ///< the frame of the last reseed
   double m_band = 0.0;            ///< seeding band half-width [m]: 3Δx
   double m_r_min = 0.0, m_r_max = 0.0;
-  double m_remove_beyond = 0.0;  ///< [m]: Δx
+  double m_water_removed_beyond = 0.0;  ///< [m]: Δx
   std::vector<double> m_x, m_y, m_z, m_radius, m_collision;
   std::vector<std::int8_t> m_sign;
   std::vector<double> m_x0, m_y0, m_z0;  ///< positions at the start of the step
   std::vector<double> m_u, m_v, m_w;     ///< velocity of the last path (the spray's start)
   Eigen::Vector3d m_gravity = Eigen::Vector3d::Zero();
+  std::array<bool, 6> m_walls{};
   ParticleArrays m_spray;
   std::vector<double> m_plus, m_minus;   ///< correction scratch, per node (touched only)
   std::vector<std::uint8_t> m_touched;
