@@ -167,9 +167,11 @@ class ParticleLevelSet {
   /// Moves the spray drops ballistically over dt; deletes those whose path meets a shell
   /// or leaves the domain.
   void advance_spray(double dt, const ShellGeometry& shells);
+  /// Moves `to`, the end of a water particle's path from `from`, back to its collision
+  /// distance off each wall, or to no nearer than `from` was, but at least 0.1Δx off.
+  void keep_off_walls(const Eigen::Vector3d& from, Eigen::Vector3d& to, double collision) const;
   /// Keeps the particles with keep[i] != 0, in order (and their start positions and path
   /// velocities while those are kept in step).
-  void keep_off_walls(const Eigen::Vector3d& from, Eigen::Vector3d& to, double collision) const;
   void compact(const std::vector<std::uint8_t>& keep);
   std::int64_t cell_of(std::int64_t i) const;
   /// Whether the cell holding x has its lowest corner flagged in `node_flags` (a shell
