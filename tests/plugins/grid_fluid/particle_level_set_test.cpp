@@ -495,7 +495,7 @@ TEST(ParticleLevelSet, SaveAndRestoreGiveTheSameRunBitForBit) {
 }
 
 
-/// Water below y = `surface` on a 16³ grid, φ a signed distance clamped to the band.
+/// Water below y = `surface`: φ the signed distance, clamped to the band.
 void fill_below(LevelSet& level_set, double surface) {
   auto& phi = level_set.phi();
   const grid::UniformGrid& grid = level_set.grid();
@@ -598,20 +598,14 @@ TEST(ParticleLevelSet, RemovedWaterParticlesFlyAsSprayUntilTheyLand) {
   ParticleLevelSet particles({{"per_cell", 8}, {"reseed_every", 10}, {"seed", 0}}, grid, 24.0,
                              gravity);
   LevelSet level_set(grid, 6.0 * dx);
-  const auto fill = [&](double surface) {
-    auto& phi = level_set.phi();
-    for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i)
-      phi[i] = std::clamp(grid.position(Location::Node, i).y() - surface, -level_set.band(),
-                          level_set.band());
-  };
-  fill(0.5);
+  fill_below(level_set, 0.5);
   const ShellGeometry none;
   particles.seed(level_set, none);
   NodeFields nodes(grid, 0.0, false);
   std::fill(nodes.velocity(0).begin(), nodes.velocity(0).end(), 0.5);
   const double dt = 0.01;
   particles.advect(nodes, dt, none, nullptr);
-  fill(0.2);
+  fill_below(level_set, 0.2);
   std::int64_t expected = 0;  // water particles more than Δx above the new surface
   for (std::int64_t i = 0; i < particles.size(); ++i)
     expected += particles.sign(i) < 0 && particles.position(i).y() - 0.2 > dx ? 1 : 0;
@@ -667,7 +661,7 @@ TEST(ParticleLevelSet, RemovedWaterParticlesFlyAsSprayUntilTheyLand) {
   EXPECT_EQ(spray.size(), flying);
   EXPECT_EQ(particles.stats().landed, expected - flying);
   ASSERT_GT(flying, 100);
-  fill(0.95);  // the water rises over every drop
+  fill_below(level_set, 0.95);  // the water rises over every drop
   particles.adjust(level_set, none);
   EXPECT_EQ(particles.spray().size(), 0);
   EXPECT_EQ(particles.stats().landed, expected);

@@ -100,7 +100,6 @@ ParticleLevelSet::ParticleLevelSet(const nlohmann::json& params, const grid::Uni
   m_band = 3.0 * dx;
   m_r_min = 0.1 * dx;
   m_r_max = 0.5 * dx;
-  m_water_removed_beyond = dx;
 }
 
 std::optional<double> ParticleLevelSet::phi_at(const LevelSet& phi, const Eigen::Vector3d& p,
@@ -632,7 +631,7 @@ void ParticleLevelSet::adjust(const LevelSet& level_set, const ShellGeometry& sh
     if (signed_distance > m_band) {
       keep[i] = 0;  // deep on its own side: no longer near the surface
     } else if (signed_distance < -(m_sign[i] > 0 ? kAirRemovedBeyondRadii * m_radius[i]
-                                                  : m_water_removed_beyond)) {
+                                                  : m_grid.dx())) {
       // Escaped further than the grid can hold. An air particle is dropped beyond 1.5
       // radii: the pressure keeps no bubble, so left in the water it carved the same pocket
       // every step that the flow closed again (a thin tank's dam break lost 17 % in 2 s;

@@ -188,7 +188,6 @@ class ParticleLevelSet {
   std::int64_t m_last_frame = 0;  ///< the frame of the last reseed
   double m_band = 0.0;            ///< seeding band half-width [m]: 3Δx
   double m_r_min = 0.0, m_r_max = 0.0;
-  double m_water_removed_beyond = 0.0;  ///< [m]: Δx
   std::vector<double> m_x, m_y, m_z, m_radius, m_collision;
   std::vector<std::int8_t> m_sign;
   std::vector<double> m_x0, m_y0, m_z0;  ///< positions at the start of the step
