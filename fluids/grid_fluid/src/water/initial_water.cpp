@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/geometry/triangle_bvh.hpp"
@@ -17,10 +18,9 @@ sdk::Schema initial_water_schema() {
   using sdk::Schema;
   // Every shape can also carve its inside out of the water before it (Zalesak's slot).
   const auto shape = [](Schema object) {
-    return object.field(
-        "subtract",
-        Schema::boolean(false).doc("true: remove this shape's inside from the water of the "
-                                   "entries before it (φ = max(φ, −d)) instead of adding it"));
+    return object.field("subtract", Schema::boolean(false).doc(
+                                        "true: remove this shape's inside from the water of the "
+                                        "entries before it (φ = max(φ, −d)) instead of adding it"));
   };
   return Schema::variant("type", "a body of water at the start")
       .option("pool", shape(Schema::object("water below a height along the up direction (-gravity)")
@@ -29,23 +29,62 @@ sdk::Schema initial_water_schema() {
       .option("box", shape(Schema::object("an axis-aligned box of water")
                                .field("min", Schema::vec3().unit("m").doc("corner"))
                                .field("max", Schema::vec3().unit("m").doc("opposite corner"))))
-      .option("sphere", shape(Schema::object("a ball of water")
-                                  .field("center", Schema::vec3().unit("m").doc("centre"))
-                                  .field("radius", Schema::number().min(0.0, false).unit("m").doc(
-                                                       "radius"))))
+      .option("sphere",
+              shape(Schema::object("a ball of water")
+                        .field("center", Schema::vec3().unit("m").doc("centre"))
+                        .field("radius", Schema::number().min(0.0, false).unit("m").doc("radius"))))
       .option("cylinder",
               shape(Schema::object("a solid cylinder of water between two points (water "
                                    "standing in a cup: its radius that of the cup)")
                         .field("from", Schema::vec3().unit("m").doc("centre of one end"))
                         .field("to", Schema::vec3().unit("m").doc("centre of the other end"))
-                        .field("radius",
-                               Schema::number().min(0.0, false).unit("m").doc("radius"))))
+                        .field("radius", Schema::number().min(0.0, false).unit("m").doc("radius"))))
       .option("mesh", shape(Schema::object("the inside of a closed triangle mesh")
                                 .field("mesh", geometry::mesh_schema())
                                 .field("transform", geometry::transform_schema())));
 }
 
 namespace {
+
+/// (b − a) × (q − a) in the y–z plane, computed from the edge's endpoints in one fixed
+/// order whichever way the edge is passed: the two triangles that share an edge get
+/// exactly opposite values, so the tie rule below gives a point on it to exactly one.
+double edge_function(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& q) {
+  const bool ordered = a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  const Eigen::Vector2d& lo = ordered ? a : b;
+  const Eigen::Vector2d& hi = ordered ? b : a;
+  const double e = (hi.x() - lo.x()) * (q.y() - lo.y()) - (hi.y() - lo.y()) * (q.x() - lo.x());
+  return ordered ? e : -e;
+}
+
+/// Where the line {(t, y, z)} crosses the triangle, if it does. A line through an edge or
+/// a vertex crosses exactly one of the triangles about it (the "top-left" rule of
+/// rasterisers: an edge of value 0 counts only when it runs one way), and a line grazing
+/// the mesh's outline crosses none or two, so the parity of the crossings is the inside
+/// wherever the rows of nodes run through the mesh's edges (a rotated box's rows did).
+std::optional<double> row_crossing(const geometry::TriangleCorners& c, double y, double z) {
+  std::array<Eigen::Vector2d, 3> p;
+  for (int v = 0; v < 3; ++v) p[v] = Eigen::Vector2d(c[v].y(), c[v].z());
+  const Eigen::Vector2d q(y, z);
+  double e[3];  // e[v]: the edge opposite vertex v, from v+1 to v+2
+  for (int v = 0; v < 3; ++v) e[v] = edge_function(p[(v + 1) % 3], p[(v + 2) % 3], q);
+  const double area = edge_function(p[0], p[1], p[2]);
+  if (area == 0.0) return std::nullopt;  // seen edge-on: the line grazes it
+  const double orientation = area > 0.0 ? 1.0 : -1.0;
+  for (int v = 0; v < 3; ++v) {
+    const double value = orientation * e[v];
+    if (value < 0.0) return std::nullopt;
+    if (value == 0.0) {
+      // On the edge: owned only when it runs "up" (or "left" when level), in the
+      // triangle's counter-clockwise order.
+      Eigen::Vector2d d = p[(v + 2) % 3] - p[(v + 1) % 3];
+      if (orientation < 0.0) d = -d;
+      if (!(d.y() > 0.0 || (d.y() == 0.0 && d.x() < 0.0))) return std::nullopt;
+    }
+  }
+  const double sum = e[0] + e[1] + e[2];
+  return (e[0] * c[0].x() + e[1] * c[1].x() + e[2] * c[2].x()) / sum;
+}
 
 /// φ = min(φ, d), or max(φ, −d) with `subtract`, for d the signed distance of the closed
 /// mesh, on the nodes of its box grown by band (beyond it d ≥ band changes nothing).
@@ -66,24 +105,13 @@ void fill_mesh(const geometry::SurfaceMesh& surface, bool subtract, LevelSet& le
 #pragma omp for collapse(2) schedule(dynamic, 4)
     for (int k = box.lo.z(); k <= box.hi.z(); ++k)
       for (int j = box.lo.y(); j <= box.hi.y(); ++j) {
-        // Crossings of the row's line with the mesh (y–z projection), for the sign.
+        // Crossings of the row's line with the mesh, for the sign.
         const Eigen::Vector3d row = grid.position(Location::Node, Eigen::Vector3i(0, j, k));
         const double y = row.y(), z = row.z();
         const Eigen::Vector3d a(lo.x() - 1.0, y, z), b(hi.x() + 1.0, y, z);
         crossings.clear();
         bvh.triangles_near_segment(a, b, 0.0, [&](int t) {
-          const auto c = mesh.corners(t);
-          // Barycentrics of (y, z) in the projected triangle.
-          const double d = (c[1].y() - c[0].y()) * (c[2].z() - c[0].z()) -
-                           (c[2].y() - c[0].y()) * (c[1].z() - c[0].z());
-          if (d == 0.0) return false;
-          const double l1 =
-              ((y - c[0].y()) * (c[2].z() - c[0].z()) - (c[2].y() - c[0].y()) * (z - c[0].z())) / d;
-          const double l2 =
-              ((c[1].y() - c[0].y()) * (z - c[0].z()) - (y - c[0].y()) * (c[1].z() - c[0].z())) / d;
-          // Half-open on edges so that a line through a shared edge counts once.
-          if (l1 < 0.0 || l2 < 0.0 || l1 + l2 >= 1.0) return false;
-          crossings.push_back(c[0].x() + l1 * (c[1].x() - c[0].x()) + l2 * (c[2].x() - c[0].x()));
+          if (const auto x = row_crossing(mesh.corners(t), y, z)) crossings.push_back(*x);
           return false;
         });
         std::sort(crossings.begin(), crossings.end());

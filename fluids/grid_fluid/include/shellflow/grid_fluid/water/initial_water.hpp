@@ -4,7 +4,8 @@
 // LevelSet as the minimum of their signed distances, in order; an entry with
 // "subtract": true carves its inside out of the water before it (the maximum of φ and
 // minus its distance: Zalesak's slot cut from his sphere). A mesh's sign comes from the parity
-// of its crossings along each +x grid row (exact for a closed, consistently closed
+// of its crossings along each +x grid row (a row through an edge or a vertex crosses
+// exactly one of the triangles about it; exact for a closed, consistently closed
 // surface; an open mesh is refused by the caller's validation), its distance from the
 // closest surface point, within the band only.
 //
