@@ -105,6 +105,26 @@ TEST(WaterCoupling, HeldBoxInTheAirFeelsNoPressure) {
   EXPECT_EQ(f.norm(), 0.0) << "F = " << f.transpose();
 }
 
+TEST(WaterCoupling, NoSolveWhileNoWaterTouchesATwoWayShell) {
+  // Cost follows what the scene uses: with air on both sides of every face the box cuts,
+  // every jump is zero, so the coupling solve is skipped (no iterations); once the box is
+  // lowered into the water it is solved again.
+  const auto iterations = [](double bottom) {
+    auto fluid = test::make_fluid(tank(std::nullopt));
+    test::TranslatingShell box(make_box(bottom, 3e7), 1, -kG, /*held=*/true);
+    coupling::CouplingLoop loop(fluid.get(), {&box}, {0.5, 0.01});
+    loop.start(0.0, kForever);
+    loop.step(loop.next_dt(kForever), kForever);
+    sdk::Metrics metrics;
+    fluid->report(metrics);
+    for (const auto& [key, value] : metrics.values())
+      if (key == "coupling_iterations") return value;
+    return -1.0;
+  };
+  EXPECT_EQ(iterations(kPool + 3.0 * kDx), 0.0);
+  EXPECT_GT(iterations(kPool - 0.1), 0.0);
+}
+
 TEST(WaterCoupling, FloodedBoxFeelsNoNetPressure) {
   // Submerged and full of water: the bottom has water at the same hydrostatic pressure on
   // both sides. Taking the jump between the cell centres instead would lift the bottom by
@@ -177,10 +197,11 @@ TEST_P(HeldHeeledBox, FeelsTheMomentOfTheWaterItKeepsOut) {
       }
   const double lift = kRho * kG * volume;
   const double expected = (first.x() / volume - centre.x()) * lift;  // τ_z = r_x F_y
-  std::printf("held box heeled %.0f degrees: F = (%.3f, %.3f, %.3f) N (ρ g V = %.3f N), moment "
-              "about its centre (%.3f, %.3f, %.3f) N m, expected τ_z = %.3f N m\n",
-              heel_deg, force.x(), force.y(), force.z(), lift, moment.x(), moment.y(), moment.z(),
-              expected);
+  std::printf(
+      "held box heeled %.0f degrees: F = (%.3f, %.3f, %.3f) N (ρ g V = %.3f N), moment "
+      "about its centre (%.3f, %.3f, %.3f) N m, expected τ_z = %.3f N m\n",
+      heel_deg, force.x(), force.y(), force.z(), lift, moment.x(), moment.y(), moment.z(),
+      expected);
   EXPECT_NEAR(force.y(), lift, 0.03 * lift);  // the upright box's bound (above)
   // The surface cuts each wall within a cell, where a face reads the jump of the cell
   // centre's depth: up to ρ g Δx/2 over a Δx-high strip of a wall of width a, at a lever
@@ -211,8 +232,9 @@ TEST(WaterCoupling, FreeBoxFloatsAtTheDraftItsMassImplies) {
   loop.start(0.0, kForever);
   // The heave decays by about half every 0.5 s (its period): measured over the last 0.5 s.
   const double end = 4.0;
-  double sum = 0.0, time = 0.0;  // ∫ (d − draft) dt over the last half second, d the Archimedes draft
-  double last_speed = 0.0;       // max |v| over the same
+  double sum = 0.0,
+         time = 0.0;  // ∫ (d − draft) dt over the last half second, d the Archimedes draft
+  double last_speed = 0.0;  // max |v| over the same
   double next_print = 0.0, speed = 0.0;
   while (loop.time() < end) {
     const double dt = loop.next_dt(kForever);
@@ -234,9 +256,10 @@ TEST(WaterCoupling, FreeBoxFloatsAtTheDraftItsMassImplies) {
       last_speed = std::max(last_speed, std::abs(box.velocity()));
     }
   }
-  std::printf("over the last 0.5 s: mean d − draft %+.5f m = %+.3f dx (> 0: floats high, d Archimedes), "
-              "max |v| %.2e m/s = %.3f sqrt(g dx)\n",
-              sum / time, sum / time / dx, last_speed, last_speed / std::sqrt(kG * dx));
+  std::printf(
+      "over the last 0.5 s: mean d − draft %+.5f m = %+.3f dx (> 0: floats high, d Archimedes), "
+      "max |v| %.2e m/s = %.3f sqrt(g dx)\n",
+      sum / time, sum / time / dx, last_speed, last_speed / std::sqrt(kG * dx));
   // The bounds: the draft within Δx/4, at rest to 1 % of √(gΔx).
   EXPECT_NEAR(sum / time, 0.0, 0.25 * dx) << "mean offset from the Archimedes draft";
   EXPECT_LE(last_speed, 0.01 * std::sqrt(kG * dx));
@@ -245,8 +268,8 @@ TEST(WaterCoupling, FreeBoxFloatsAtTheDraftItsMassImplies) {
 TEST(WaterCoupling, FreeBoxIsStableOverTheDensitySweep) {
   // The smoke coupling's sweep in water: the open box free to heave, σ from 10⁻³ to 10³ times
   // ρΔx (the water's mass per unit area of one cell layer, 31.25 kg/m² here), at CFL 0.5 and
-  // 2 with the step up to 0.02 s, over 0.25 s, released a cell above the draft of 37.5 kg/m²: the light ones
-  // pop up and float, the heavy ones fall. Bound: finite, and no faster than a free fall
+  // 2 with the step up to 0.02 s, over 0.25 s, released a cell above the draft of 37.5 kg/m²: the
+  // light ones pop up and float, the heavy ones fall. Bound: finite, and no faster than a free fall
   // from rest over the run plus √(gΔx) (a body the water does not hold up).
   const double bottom = kPool - 0.15 + kDx;
   const double rho_dx = kRho * kDx;
@@ -279,13 +302,15 @@ TEST(WaterCoupling, ALightPlateYieldsToAStreamThatAHeavyOneStops) {
   // Mean force over the run [N] and the plate's travel [m]: 0.45 s, the stream landing at
   // about 0.15 s (0.25 m of fall from the source's foot at 1 m/s).
   const auto push = [](double sigma) {
-    auto fluid = test::make_fluid(
-        {{"domain", {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}}},
-         {"resolution", kResolution},
-         {"water",
-          {{"sources",
-            {{{"shape", "cylinder"}, {"from", {0.5, 0.85, 0.5}}, {"to", {0.5, 1.0, 0.5}},
-              {"radius", 0.08}, {"velocity", {0, -1, 0}}}}}}}});
+    auto fluid = test::make_fluid({{"domain", {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}}},
+                                   {"resolution", kResolution},
+                                   {"water",
+                                    {{"sources",
+                                      {{{"shape", "cylinder"},
+                                        {"from", {0.5, 0.85, 0.5}},
+                                        {"to", {0.5, 1.0, 0.5}},
+                                        {"radius", 0.08},
+                                        {"velocity", {0, -1, 0}}}}}}}});
     auto surface =
         test::make_plate(Eigen::Vector3d(0.513, 0.6, 0.487), Eigen::Vector3d::UnitY(), 0.4, 17);
     surface.surface_density.setConstant(sigma);
@@ -303,9 +328,10 @@ TEST(WaterCoupling, ALightPlateYieldsToAStreamThatAHeavyOneStops) {
   const double rho_dx = kRho * kDx;
   const auto [light_force, light_travel] = push(0.1 * rho_dx);
   const auto [heavy_force, heavy_travel] = push(100.0 * rho_dx);
-  std::printf("stream on a plate of σ = 0.1 ρΔx: mean force %.3f N, travel %.4f m; of 100 ρΔx: "
-              "%.3f N, %.6f m\n",
-              light_force, light_travel, heavy_force, heavy_travel);
+  std::printf(
+      "stream on a plate of σ = 0.1 ρΔx: mean force %.3f N, travel %.4f m; of 100 ρΔx: "
+      "%.3f N, %.6f m\n",
+      light_force, light_travel, heavy_force, heavy_travel);
   // Both pushed down; the light one further, with less force.
   EXPECT_LT(heavy_force, 0.0);
   EXPECT_LT(light_travel, heavy_travel);

@@ -106,8 +106,8 @@ class CouplingPressure {
     std::int64_t face;
     double velocity;
     double beta;
-    double s;  ///< where the shell cuts the segment between the cell centres, 0 at the − cell
-    int body;  ///< a rigid shell's face: its index in m_bodies (β unused); else −1
+    double s;      ///< where the shell cuts the segment between the cell centres, 0 at the − cell
+    int body;      ///< a rigid shell's face: its index in m_bodies (β unused); else −1
     int triangle;  ///< of the shell, where the segment meets it
     /// A rigid shell's face: J_fᵀ and the flux it carries per Δx² (water: [N_f; M_f]/Δx²
     /// and Φ_f/Δx² of the pieces of shell it stands for, rigid_face_areas.hpp; smoke:
@@ -134,6 +134,8 @@ class CouplingPressure {
   /// as air: a cell the V-cycle cannot see stalled CG, and its volume is below a cell's.
   void drop_sealed_cells(Eigen::VectorXd& b);
   bool air(std::int64_t cell) const { return m_surface != nullptr && m_liquid[cell] == 0; }
+  /// Water: whether a two-way shell face has water on either side (else no force anywhere).
+  bool water_at_two_way_faces() const;
   void jumps_to_nodes(double to_pressure, CouplingStats& stats);
   /// Water: adds `sign` × q of `cell` extrapolated by `reach` cells (its distance to the
   /// shell) away from its neighbour `cell − step·e_axis`, with the one-sided slope through
@@ -152,12 +154,12 @@ class CouplingPressure {
   CouplingSettings m_settings;
   std::array<std::vector<std::uint8_t>, 3> m_closed;  ///< Neumann faces
   std::vector<ShellFace> m_shell_faces;
-  std::vector<FaceJump> m_jumps;         ///< per shell face: [q] at the shell
-  std::vector<int> m_body_of_shell;      ///< per shell of the set: index in m_bodies, or −1
+  std::vector<FaceJump> m_jumps;          ///< per shell face: [q] at the shell
+  std::vector<int> m_body_of_shell;       ///< per shell of the set: index in m_bodies, or −1
   std::vector<BodyVector> m_body_wrench;  ///< per body: ρ Δx³/Δt K q [N; N m]
   std::vector<RigidShellFaces> m_bodies;
-  const FreeSurface* m_surface = nullptr;  ///< during compute() of a water scene
-  std::vector<std::uint8_t> m_liquid;      ///< per cell, water scenes only
+  const FreeSurface* m_surface = nullptr;                   ///< during compute() of a water scene
+  std::vector<std::uint8_t> m_liquid;                       ///< per cell, water scenes only
   std::array<std::vector<std::uint8_t>, 3> m_two_way_face;  ///< water: faces of m_shell_faces
   FluidRegions m_regions;
   linear::GridLaplacian m_laplacian;            ///< face weights β
