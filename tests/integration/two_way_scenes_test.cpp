@@ -295,5 +295,48 @@ TEST_F(TwoWayScenes, ClothDensitySweepInAStreamStaysFinite) {
   }
 }
 
+TEST_F(TwoWayScenes, ClothInAWaterJetStaysFiniteOverTheDensitySweep) {
+  // The cloth sweep above with water: a 2 m/s jet (no gravity, so that only the coupling
+  // acts) onto a curtain pinned along its top edge, σ from 1000× lighter to 1000× heavier
+  // than ρΔx (62.5 kg/m² at 16 cells), at two step sizes, 60 steps (the jet reaches the
+  // cloth after 0.125 s). Every combination must stay finite, and the cloth below the
+  // smoke sweep's bound, ten times the jet.
+  const double reference = 1000.0 / 16.0;
+  for (const double ratio : {1e-3, 1e-2, 1e-1, 1.0, 10.0, 100.0, 1000.0}) {
+    for (const double max_dt : {0.005, 0.02}) {
+      const std::string sigma = std::to_string(ratio * reference);
+      const auto file = write("water_sweep.json", R"({
+        "gravity": [0, 0, 0], "time": {"fps": 24, "frames": 10, "max_dt": )" +
+                                                      std::to_string(max_dt) + R"(, "cfl": 2.0},
+        "coupling": {"max_speed": 20},
+        "fluid": {"plugin": "grid_fluid", "name": "water", "resolution": 16,
+                  "water": {"sources": [{"shape": "cylinder", "from": [0, 0.6, 0.5],
+                                         "to": [0.15, 0.6, 0.5], "radius": 0.12,
+                                         "velocity": [2, 0, 0]}]}},
+        "solids": [{"plugin": "mass_spring_cloth", "name": "curtain",
+                    "mesh": {"type": "grid", "width": 0.5, "height": 0.5, "nodes_u": 7, "nodes_v": 7},
+                    "transform": {"rotate_axis": [0, 1, 0], "rotate_deg": 90, "translate": [0.4, 0.5, 0.5]},
+                    "surface_density": )" + sigma +
+                                                      R"(, "pins": {"grid": ["top"]},
+                    "collision": {"self_collision": false}}]})");
+      SceneRun run(file);
+      double max_speed = 0.0;
+      bool finite = true;
+      for (int step = 0; step < 60 && finite; ++step) {
+        run.steps(1);
+        for (const auto& s : run.loop->shells()) {
+          finite = finite && s.positions.allFinite() && s.velocities.allFinite();
+          if (finite) max_speed = std::max(max_speed, s.velocities.rowwise().norm().maxCoeff());
+        }
+        finite = finite && !run.fluid->find_nonfinite();
+      }
+      std::printf("cloth in water, sigma = %g rho dx, max_dt %g: %s, max node speed %.3g m/s\n",
+                  ratio, max_dt, finite ? "finite" : "NOT FINITE", max_speed);
+      EXPECT_TRUE(finite) << "σ = " << ratio << " ρΔx, max_dt " << max_dt;
+      EXPECT_LT(max_speed, 20.0) << "σ = " << ratio << " ρΔx, max_dt " << max_dt;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace shellflow::runtime
