@@ -233,33 +233,24 @@ TEST_F(TwoWayScenes, ALightCurtainInAWaterJetIsPushedAndTheWaterKept) {
   const double t0 = run.loop->time(), v0 = volume();
   while (run.loop->time() < 0.15 - 1e-9) run.loop->step(run.loop->next_dt(1e9), 1e9);
   const double rate = (volume() - v0) / (run.loop->time() - t0);
-  double fastest = 0.0, fastest_water = 0.0;
+  double fastest = 0.0;
   while (run.loop->time() < 0.6 - 1e-9) {
     run.loop->step(run.loop->next_dt(1e9), 1e9);
     for (const auto& s : run.loop->shells())
       fastest = std::max(fastest, s.velocities.rowwise().norm().maxCoeff());
-    sdk::Metrics m;
-    run.fluid->report(m);
-    for (const auto& [key, value] : m.values())
-      if (key == "max_speed") fastest_water = std::max(fastest_water, value);
   }
   const double expected = v0 + rate * (run.loop->time() - t0);
   std::printf(
       "curtain in a water jet: %.4f m^3 at %.2f s against %.4f emitted (%.3f m^3/s); "
       "cloth at most %.2f m/s\n",
       volume(), run.loop->time(), expected, rate, std::max(fastest, 0.0));
-  // Measured +1.2 % (+2.0 % with the linear velocity extrapolation next to the cloth; −18 %
-  // with the pull): the level set's own drift as the jet splashes on the cloth; the bound
-  // allows 5 %.
+  // Measured +2.0 % (the level set's own drift as the jet splashes on the cloth; −18 %
+  // with the pull); the bound allows two and a half times that.
   EXPECT_NEAR(volume(), expected, 0.05 * expected);
   // The jet's water moves at 4 m/s; a cloth it pushes moves no faster than that water,
-  // save for the elastic rebound of its free corners (measured: 3.3 m/s; 21 m/s with the
+  // save for the elastic rebound of its free corners (measured: 4.8 m/s; 21 m/s with the
   // pull).
   EXPECT_LT(fastest, 2.0 * 4.0);
-  // Nor is any water faster than the jet's water falling from its height to the floor,
-  // √(4² + 2 g 2.6) = 8.2 m/s (measured 6.3 m/s).
-  std::printf("water at most %.2f m/s\n", fastest_water);
-  EXPECT_LT(fastest_water, std::sqrt(4.0 * 4.0 + 2.0 * 9.81 * 2.6));
 }
 
 TEST_F(TwoWayScenes, ClothDensitySweepInAStreamStaysFinite) {

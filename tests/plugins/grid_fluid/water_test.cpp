@@ -485,49 +485,6 @@ struct StaticShell {
   geometry::ShellBand band;
 };
 
-TEST(VelocityExtrapolation, NearAShellTheProfileIsConstant) {
-  // The flat surface of LinearProfileContinuesALinearFieldAcrossAFlatSurface, now cut by a
-  // vertical plate at x = 0.5 + Δx/3. Next to a shell the liquid faces' normal slope is the
-  // shell's shear across a film, not the surface's, and carried on it overshot (water at
-  // 12–19 m/s beside a curtain in a 4 m/s jet): in the plate's band (2Δx) the faces above
-  // the surface copy the last liquid face; away from it the linear profile is kept.
-  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 0.125, Eigen::Vector3i(8, 8, 8));
-  const double dx = grid.dx(), h = 4.3 * dx;
-  LevelSet level_set(grid, 6.0 * dx);
-  for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
-    level_set.phi()[i] = grid.position(Location::Node, i).y() - h;
-  const auto field = [](double y) { return 1.0 + 2.0 * y; };
-  MacGrid mac(grid);
-  std::array<std::vector<std::uint8_t>, 3> known;
-  for (int a = 0; a < 3; ++a) known[a].assign(grid.size(face_location(a)), a == 1 ? 0 : 1);
-  auto& v = mac.face_velocity(1);
-  for (std::int64_t f = 0; f < grid.size(Location::FaceY); ++f) {
-    const double y = grid.position(Location::FaceY, f).y();
-    if (y < h) {
-      v[f] = field(y);
-      known[1][f] = 1;
-    }
-  }
-  const StaticShell plate(
-      grid, test::make_plate({0.5 + dx / 3.0, 0.5, 0.5}, Eigen::Vector3d::UnitX(), 1.2, 7));
-  VelocityExtrapolation(grid, true)
-      .extrapolate(mac, known, level_set, 5.0 * dx, plate.geometry, &plate.band);
-  const auto in_band = plate.band.flags(Location::FaceY);
-  int near = 0, far = 0;
-  for (std::int64_t f = 0; f < grid.size(Location::FaceY); ++f) {
-    const double y = grid.position(Location::FaceY, f).y();
-    if (y < h || y - h > 5.0 * dx) continue;
-    const bool band = in_band[f] != 0;
-    near += band ? 1 : 0;
-    far += band ? 0 : 1;
-    const double linear = y - h < dx ? field(y) : field(5.0 * dx);
-    const double expected = band ? field(4.0 * dx) : linear;  // the last liquid face
-    EXPECT_NEAR(v[f], expected, 1e-12) << (band ? "near" : "away from") << " the plate, y = " << y;
-  }
-  EXPECT_GT(near, 0);  // both kinds of face are checked
-  EXPECT_GT(far, 0);
-}
-
 TEST(FastMarching, NeverMarchesAcrossAShell) {
   // Water in x < 0.3; a plate at x = 0.5 + Δx/3 with a dry side beyond it (φ = the band,
   // as a dry side holds). No distance may come from the water through the plate: nodes

@@ -41,7 +41,7 @@ sdk::Schema Liquid::schema() {
                       "faces moves with the last liquid face's velocity (a standing wave's "
                       "period up to 3.3% long at 32 cells per wavelength). linear: within a "
                       "cell of the surface the velocity keeps its normal slope (Aslam 2004; "
-                      "that wave within 0.6%), constant beyond and near shells"))
+                      "that wave within 0.6%), constant beyond"))
       .field("advection",
              Schema::string("semi_lagrangian")
                  .one_of({"semi_lagrangian", "maccormack"})

@@ -93,10 +93,7 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
     for (const auto& [phi_f, f] : m_order) {
       const Eigen::Vector3i ijk = m_grid.coordinates(loc, f);
       double weighted = 0.0, weights = 0.0, plain = 0.0, slope_weighted = 0.0;
-      // Near a shell, constant: there the liquid faces' normal slope is the shell's shear
-      // across a film a cell thick, not the surface's, and carried on it overshot (water
-      // at 12–19 m/s beside a curtain in a 4 m/s jet, the step cut to match).
-      const bool linear = m_linear && phi_f < dx && (in_band.empty() || in_band[f] == 0);
+      const bool linear = m_linear && phi_f < dx;
       int terms = 0;
       for (int ax = 0; ax < 3; ++ax) {
         std::int64_t best = -1;
