@@ -163,10 +163,9 @@ Eigen::VectorXd CouplingPressure::right_hand_side(const MacGrid& mac) const {
   for (const ShellFace& sf : m_shell_faces) {
     const double velocity = sf.body >= 0 ? 0.0 : sf.velocity;
     const double delta = velocity - mac.face_velocity(sf.axis)[sf.face];
-    Eigen::Vector3i ijk = m_grid.coordinates(face_location(sf.axis), sf.face);
-    b[m_grid.index(Location::Cell, ijk)] += delta;  // its min face: outward −u
-    ijk[sf.axis] -= 1;
-    b[m_grid.index(Location::Cell, ijk)] -= delta;  // its max face: outward +u
+    const auto [minus, plus] = cells_of(sf);
+    b[plus] += delta;   // its min face: outward −u
+    b[minus] -= delta;  // its max face: outward +u
   }
   return b;
 }
@@ -366,13 +365,18 @@ void CouplingPressure::add_side_at_shell(FaceJump& jump, std::int64_t cell, int 
   }
 }
 
+std::pair<std::int64_t, std::int64_t> CouplingPressure::cells_of(const ShellFace& sf) const {
+  Eigen::Vector3i ijk = m_grid.coordinates(face_location(sf.axis), sf.face);
+  const std::int64_t plus = m_grid.index(Location::Cell, ijk);
+  ijk[sf.axis] -= 1;
+  return {m_grid.index(Location::Cell, ijk), plus};
+}
+
 bool CouplingPressure::water_at_two_way_faces() const {
   for (const ShellFace& sf : m_shell_faces) {
     if (!sf.two_way()) continue;
-    Eigen::Vector3i ijk = m_grid.coordinates(face_location(sf.axis), sf.face);
-    if (!air(m_grid.index(Location::Cell, ijk))) return true;
-    ijk[sf.axis] -= 1;
-    if (!air(m_grid.index(Location::Cell, ijk))) return true;
+    const auto [minus, plus] = cells_of(sf);
+    if (!air(minus) || !air(plus)) return true;
   }
   return false;
 }
@@ -383,11 +387,7 @@ void CouplingPressure::build_jumps() {
     const ShellFace& sf = m_shell_faces[k];
     if (!sf.two_way()) continue;
     const int a = sf.axis;
-    const Eigen::Vector3i ijk = m_grid.coordinates(face_location(a), sf.face);
-    Eigen::Vector3i lo = ijk;
-    lo[a] -= 1;
-    const std::int64_t plus = m_grid.index(Location::Cell, ijk);
-    const std::int64_t minus = m_grid.index(Location::Cell, lo);
+    const auto [minus, plus] = cells_of(sf);
     FaceJump& jump = m_jumps[k];
     if (m_surface == nullptr) {  // smoke: between the cell centres
       jump.add(plus, 1.0);
@@ -429,10 +429,8 @@ void CouplingPressure::jumps_to_nodes(double to_pressure, CouplingStats& stats) 
       // adhesion (§8), and p < 0 against air is the lagged scheme's suction when a light
       // shell outruns the water, which pulled a cloth curtain back into a jet harder every
       // step until it blew up (Fig. 1 at 48 cells: 12 kN into a 4 m/s jet's 3 kN).
-      Eigen::Vector3i lo = ijk;
-      lo[a] -= 1;
-      const bool plus_air = air(m_grid.index(Location::Cell, ijk));
-      const bool minus_air = air(m_grid.index(Location::Cell, lo));
+      const auto [minus, plus] = cells_of(sf);
+      const bool plus_air = air(plus), minus_air = air(minus);
       if (minus_air && !plus_air) jump = std::max(jump, 0.0);
       if (plus_air && !minus_air) jump = std::min(jump, 0.0);
     }

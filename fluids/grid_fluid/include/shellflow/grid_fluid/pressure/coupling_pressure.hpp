@@ -44,6 +44,7 @@
 #include <array>
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
@@ -134,6 +135,8 @@ class CouplingPressure {
   /// as air: a cell the V-cycle cannot see stalled CG, and its volume is below a cell's.
   void drop_sealed_cells(Eigen::VectorXd& b);
   bool air(std::int64_t cell) const { return m_surface != nullptr && m_liquid[cell] == 0; }
+  /// The cells a shell face lies between: {below it along its axis, above it}.
+  std::pair<std::int64_t, std::int64_t> cells_of(const ShellFace& sf) const;
   /// Water: whether a two-way shell face has water on either side (else no force anywhere).
   bool water_at_two_way_faces() const;
   void jumps_to_nodes(double to_pressure, CouplingStats& stats);
