@@ -15,15 +15,6 @@ using ::testing::HasSubstr;
 // A handful of operations on numbers of order one: round-off.
 constexpr double kRoundOff = 1e-12;
 
-double reported(const GridFluid& fluid, const std::string& key) {
-  sdk::Metrics m;
-  fluid.report(m);
-  for (const auto& [k, v] : m.values())
-    if (k == key) return v;
-  ADD_FAILURE() << "no metric '" << key << "'";
-  return NAN;
-}
-
 TEST(FluidProbes, PoolSurfaceHeightAndVolume) {
   // φ = y − 0.41 (a signed distance, clamped far from the surface): trilinear sampling and
   // the linear interpolation of the crossing are exact for it.
@@ -41,12 +32,12 @@ TEST(FluidProbes, PoolSurfaceHeightAndVolume) {
           {"to", {0.5, 0.9, 0.5}}},
          {{"type", "box"}, {"name", "all"}, {"min", {0, 0, 0}}, {"max", {1, 1, 1}}},
          {{"type", "box"}, {"name", "top"}, {"min", {0, 0.6, 0}}, {"max", {1, 1, 1}}}}}});
-  EXPECT_NEAR(reported(*fluid, "level.extent"), 0.41, kRoundOff);
-  EXPECT_EQ(reported(*fluid, "air.extent"), 0.0);
+  EXPECT_NEAR(test::reported(*fluid, "level.extent"), 0.41, kRoundOff);
+  EXPECT_EQ(test::reported(*fluid, "air.extent"), 0.0);
   // The box over the whole tank sums what LevelSet::volume sums (in another order).
-  EXPECT_NEAR(reported(*fluid, "all.water_volume"), fluid->liquid()->level_set().volume(),
+  EXPECT_NEAR(test::reported(*fluid, "all.water_volume"), fluid->liquid()->level_set().volume(),
               kRoundOff);
-  EXPECT_EQ(reported(*fluid, "top.water_volume"), 0.0);
+  EXPECT_EQ(test::reported(*fluid, "top.water_volume"), 0.0);
 }
 
 TEST(FluidProbes, DamBreakFrontAlongTheFloor) {
@@ -61,7 +52,7 @@ TEST(FluidProbes, DamBreakFrontAlongTheFloor) {
           {"name", "front"},
           {"from", {0, 0, 0.03125}},
           {"to", {1, 0, 0.03125}}}}}});
-  EXPECT_NEAR(reported(*fluid, "front.extent"), 0.25, kRoundOff);
+  EXPECT_NEAR(test::reported(*fluid, "front.extent"), 0.25, kRoundOff);
 }
 
 TEST(FluidProbes, SmokeMassInABox) {
@@ -71,7 +62,7 @@ TEST(FluidProbes, SmokeMassInABox) {
         {{{"type", "box"}, {"name", "left"}, {"min", {0, 0, 0}}, {"max", {0.5, 1, 1}}}}}});
   for (auto& d : fluid->nodes().density()) d = 1.0;
   // Nodes with x <= 0.5: 9 x 17 x 17 of them, each Δx³ = 1/4096 (exact in binary).
-  EXPECT_EQ(reported(*fluid, "left.smoke_mass"), 9.0 * 17.0 * 17.0 / 4096.0);
+  EXPECT_EQ(test::reported(*fluid, "left.smoke_mass"), 9.0 * 17.0 * 17.0 / 4096.0);
 }
 
 TEST(FluidProbes, VelocityErrorAgainstTheInitialField) {
@@ -84,14 +75,14 @@ TEST(FluidProbes, VelocityErrorAgainstTheInitialField) {
       test::make_fluid({{"resolution", 8},
                         {"initial_velocity", {{"type", "taylor_green"}, {"amplitude", 1.1}}},
                         {"probes", {probe}}});
-  EXPECT_NEAR(reported(*off, "tg.max_error"), 0.1, kRoundOff);
-  EXPECT_NEAR(reported(*off, "tg.rms_error"), 0.1, kRoundOff);
+  EXPECT_NEAR(test::reported(*off, "tg.max_error"), 0.1, kRoundOff);
+  EXPECT_NEAR(test::reported(*off, "tg.rms_error"), 0.1, kRoundOff);
   // The same field as the reference: no error but round-off (the walls hold exactly 0 where
   // the reference holds sin(π) ≈ 1.2e-16).
   const auto same =
       test::make_fluid({{"resolution", 8}, {"initial_velocity", vortex}, {"probes", {probe}}});
-  EXPECT_NEAR(reported(*same, "tg.max_error"), 0.0, kRoundOff);
-  EXPECT_NEAR(reported(*same, "tg.rms_error"), 0.0, kRoundOff);
+  EXPECT_NEAR(test::reported(*same, "tg.max_error"), 0.0, kRoundOff);
+  EXPECT_NEAR(test::reported(*same, "tg.rms_error"), 0.0, kRoundOff);
   // A reference that is zero everywhere gives no scale to an error.
   nlohmann::json still = probe;
   still["reference"]["amplitude"] = 0.0;

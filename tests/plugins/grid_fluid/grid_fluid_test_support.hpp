@@ -1,17 +1,33 @@
 #pragma once
 // Helpers shared by the grid_fluid tests: a validated GridFluid from a JSON snippet, the
-// water surface height on a node line, shells built in the test (a flat plate) and a
-// rigid shell that only translates along one axis (the smallest two-way solid).
+// water surface height on a node line, shells built in the test (a flat plate), a rigid
+// shell that only translates along one axis (the smallest two-way solid), and the value of
+// one reported metric.
 
+#include <gtest/gtest.h>
+
+#include <cmath>
 #include <nlohmann/json.hpp>
+#include <string>
 
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/grid_fluid/grid_fluid_solver.hpp"
 #include "shellflow/grid_fluid/water/liquid.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
+#include "shellflow/sdk/metrics.hpp"
 #include "shellflow/sdk/solid_solver.hpp"
 
 namespace shellflow::grid_fluid::test {
+
+/// The metric `key` as the fluid reports it now (a test failure, and NaN, if it has none).
+inline double reported(const sdk::FluidSolver& fluid, const std::string& key) {
+  sdk::Metrics m;
+  fluid.report(m);
+  for (const auto& [k, v] : m.values())
+    if (k == key) return v;
+  ADD_FAILURE() << "no metric '" << key << "'";
+  return NAN;
+}
 
 /// The params with the schema's defaults filled in (as the runtime passes them).
 inline nlohmann::json validated(nlohmann::json params) {
@@ -111,10 +127,11 @@ class TranslatingShell final : public sdk::SolidSolver {
     Eigen::Vector3d m = Eigen::Vector3d::Zero();
     const auto& T = *m_surface.triangles;
     for (int t = 0; t < m_forces.rows(); ++t) {
-      const Eigen::Vector3d c = (m_surface.positions.row(T(t, 0)) + m_surface.positions.row(T(t, 1)) +
-                                 m_surface.positions.row(T(t, 2)))
-                                    .transpose() /
-                                3.0;
+      const Eigen::Vector3d c =
+          (m_surface.positions.row(T(t, 0)) + m_surface.positions.row(T(t, 1)) +
+           m_surface.positions.row(T(t, 2)))
+              .transpose() /
+          3.0;
       m += (c - point).cross(Eigen::Vector3d(m_forces.row(t).transpose()));
     }
     return m;

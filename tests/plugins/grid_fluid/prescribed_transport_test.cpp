@@ -167,20 +167,11 @@ int run_to(GridFluid& fluid, double end) {
   return steps;
 }
 
-double reported(const GridFluid& fluid, const std::string& key) {
-  sdk::Metrics m;
-  fluid.report(m);
-  for (const auto& [k, v] : m.values())
-    if (k == key) return v;
-  ADD_FAILURE() << "no metric '" << key << "'";
-  return NAN;
-}
-
 TEST(PrescribedVelocity, TheFieldIsImposedAndNothingIsSolved) {
   // After a step the faces and nodes hold the field at the step's end exactly, no
   // pressure iteration ran, the shape error starts at 0 and grows as the sphere turns.
   auto fluid = test::make_fluid(zalesak_water(16, 0), Eigen::Vector3d::Zero());
-  EXPECT_EQ(reported(*fluid, "water_symmetric_difference"), 0.0);
+  EXPECT_EQ(test::reported(*fluid, "water_symmetric_difference"), 0.0);
   const double dt = fluid->stable_dt(0.5);
   EXPECT_GT(dt, 0.0);
   fluid->advect(0.0, dt, {}, {});
@@ -193,9 +184,10 @@ TEST(PrescribedVelocity, TheFieldIsImposedAndNothingIsSolved) {
       worst = std::max(worst, std::abs(u[i] - f.velocity(fluid->grid().position(face_location(a), i), dt)[a]));
   }
   EXPECT_EQ(worst, 0.0);
-  EXPECT_EQ(reported(*fluid, "pcg_iterations"), 0.0);
+  EXPECT_EQ(test::reported(*fluid, "pcg_iterations"), 0.0);
   run_to(*fluid, 60.0);  // a tenth of a turn: the slot has moved by several cells
-  EXPECT_GT(reported(*fluid, "water_symmetric_difference"), 0.05 * fluid->liquid()->initial_volume());
+  EXPECT_GT(test::reported(*fluid, "water_symmetric_difference"),
+            0.05 * fluid->liquid()->initial_volume());
 }
 
 struct Deformation {
@@ -229,7 +221,7 @@ Deformation deform(int cells, int per_cell) {
     t += dt;
   }
   out.loss_end = 1.0 - fluid.liquid()->level_set().volume() / v0;
-  out.shape_end = reported(fluid, "water_symmetric_difference") / v0;
+  out.shape_end = test::reported(fluid, "water_symmetric_difference") / v0;
   return out;
 }
 

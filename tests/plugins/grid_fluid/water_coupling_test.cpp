@@ -115,11 +115,7 @@ TEST(WaterCoupling, NoSolveWhileNoWaterTouchesATwoWayShell) {
     coupling::CouplingLoop loop(fluid.get(), {&box}, {0.5, 0.01});
     loop.start(0.0, kForever);
     loop.step(loop.next_dt(kForever), kForever);
-    sdk::Metrics metrics;
-    fluid->report(metrics);
-    for (const auto& [key, value] : metrics.values())
-      if (key == "coupling_iterations") return value;
-    return -1.0;
+    return test::reported(*fluid, "coupling_iterations");
   };
   EXPECT_EQ(iterations(kPool + 3.0 * kDx), 0.0);
   EXPECT_GT(iterations(kPool - 0.1), 0.0);
