@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 
 #include "shellflow/grid_fluid/water/level_set.hpp"
 #include "shellflow/sdk/error.hpp"
@@ -12,18 +11,6 @@ namespace shellflow::grid_fluid {
 
 using grid::Location;
 using sdk::Schema;
-
-namespace {
-
-/// Smeared Heaviside H(−φ) of width 1.5Δx, as LevelSet::volume (Osher and Fedkiw 2002, 7.1).
-double wet_fraction(double phi, double eps) {
-  if (phi <= -eps) return 1.0;
-  if (phi >= eps) return 0.0;
-  const double x = -phi;
-  return 0.5 + x / (2.0 * eps) + std::sin(std::numbers::pi * x / eps) / (2.0 * std::numbers::pi);
-}
-
-}  // namespace
 
 Schema FluidProbes::schema() {
   return Schema::array(
@@ -105,28 +92,22 @@ void FluidProbes::report(sdk::Metrics& out, const MacGrid& mac, const std::vecto
   const grid::UniformGrid& grid = mac.grid();
   const double dx = grid.dx();
   const double cell = dx * dx * dx;
-  const Eigen::Vector3i n = grid.counts(Location::Node);
   for (const auto& p : m_probes) {
     if (p.type == Type::Box) {
+      if (level_set) {
+        // The sharp volume of the cells whose centres lie in the box, as LevelSet::volume.
+        out.set(p.name + ".water_volume",
+                level_set->volume(grid.samples_in_box(Location::Cell, p.a, p.b)));
+        continue;
+      }
       const grid::IndexBox box = grid.samples_in_box(Location::Node, p.a, p.b);
       double sum = 0.0;
-      const double eps = 1.5 * dx;
-      if (!box.empty())
+      if (!box.empty() && !density.empty())
         for (int k = box.lo.z(); k <= box.hi.z(); ++k)
           for (int j = box.lo.y(); j <= box.hi.y(); ++j)
-            for (int i = box.lo.x(); i <= box.hi.x(); ++i) {
-              const std::int64_t node = grid.index(Location::Node, i, j, k);
-              if (level_set) {
-                // Domain-face nodes weigh 1/2 per face, as in LevelSet::volume.
-                const double w = (i == 0 || i == n.x() - 1 ? 0.5 : 1.0) *
-                                 (j == 0 || j == n.y() - 1 ? 0.5 : 1.0) *
-                                 (k == 0 || k == n.z() - 1 ? 0.5 : 1.0);
-                sum += w * wet_fraction(level_set->phi()[node], eps);
-              } else if (!density.empty()) {
-                sum += density[node];
-              }
-            }
-      out.set(p.name + (level_set ? ".water_volume" : ".smoke_mass"), sum * cell);
+            for (int i = box.lo.x(); i <= box.hi.x(); ++i)
+              sum += density[grid.index(Location::Node, i, j, k)];
+      out.set(p.name + ".smoke_mass", sum * cell);
     } else if (p.type == Type::VelocityError) {
       double max_error = 0.0, max_reference = 0.0, error_squares = 0.0, reference_squares = 0.0;
       for (int a = 0; a < 3; ++a) {

@@ -99,11 +99,73 @@ double LevelSet::node_weight(std::int64_t node) const {
   return w;
 }
 
+namespace {
+
+/// The fraction of a tetrahedron where the linear interpolant of its corner values is
+/// below zero, exact. The cut is a corner tetrahedron (one or three corners wet) or a
+/// prism (two), whose volume follows from where the surface crosses the edges.
+double tetrahedron_water_fraction(const std::array<double, 4>& phi) {
+  std::array<double, 4> wet{}, dry{};
+  int n_wet = 0, n_dry = 0;
+  for (const double v : phi) (v < 0.0 ? wet[n_wet++] : dry[n_dry++]) = v;
+  // The fraction of edge (w, d) from its wet end w to the surface; w < 0 <= d.
+  const auto cut = [](double w, double d) { return w / (w - d); };
+  switch (n_wet) {
+    case 0:
+      return 0.0;
+    case 1:
+      return cut(wet[0], dry[0]) * cut(wet[0], dry[1]) * cut(wet[0], dry[2]);
+    case 2: {
+      // Prism between the wet edge and the surface: three tetrahedra (barycentric
+      // determinants) with s1, s2 on the edges from wet[0] and s3, s4 from wet[1].
+      const double s1 = cut(wet[0], dry[0]), s2 = cut(wet[0], dry[1]);
+      const double s3 = cut(wet[1], dry[0]), s4 = cut(wet[1], dry[1]);
+      return s1 * s2 * (1.0 - s4) + s1 * s4 * (1.0 - s3) + s3 * s4;
+    }
+    case 3:
+      return 1.0 - (1.0 - cut(wet[0], dry[0])) * (1.0 - cut(wet[1], dry[0])) *
+                       (1.0 - cut(wet[2], dry[0]));
+    default:
+      return 1.0;
+  }
+}
+
+/// The six tetrahedra of a cube about its diagonal from corner 0 to corner 7 (corner
+/// c = i + 2j + 4k), one per order of the three axes: they tile the cube, 1/6 each.
+constexpr std::array<std::array<int, 4>, 6> kCubeTetrahedra = {
+    {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}}};
+
+}  // namespace
+
+double LevelSet::cell_water_fraction(int i, int j, int k) const {
+  std::array<double, 8> corner{};
+  bool any_wet = false, any_dry = false;
+  for (int c = 0; c < 8; ++c) {
+    corner[c] = m_phi[m_grid.index(Location::Node, i + (c & 1), j + (c >> 1 & 1), k + (c >> 2))];
+    (corner[c] < 0.0 ? any_wet : any_dry) = true;
+  }
+  if (!any_dry) return 1.0;
+  if (!any_wet) return 0.0;
+  double sum = 0.0;
+  for (const auto& t : kCubeTetrahedra)
+    sum += tetrahedron_water_fraction({corner[t[0]], corner[t[1]], corner[t[2]], corner[t[3]]});
+  return sum / 6.0;
+}
+
 double LevelSet::volume() const {
-  const double eps = 1.5 * m_grid.dx();
-  const double sum = ordered_sum(static_cast<std::int64_t>(m_phi.size()), [&](std::int64_t node) {
-    const double h = water_fraction(m_phi[node], eps);
-    return h > 0.0 ? node_weight(node) * h : 0.0;
+  const Eigen::Vector3i n = m_grid.cells();
+  return volume({Eigen::Vector3i::Zero(), n - Eigen::Vector3i::Ones()});
+}
+
+double LevelSet::volume(const grid::IndexBox& cells) const {
+  if (cells.empty()) return 0.0;
+  const Eigen::Vector3i extent = cells.hi - cells.lo + Eigen::Vector3i::Ones();
+  const std::int64_t count = std::int64_t(extent.x()) * extent.y() * extent.z();
+  const double sum = ordered_sum(count, [&](std::int64_t c) {
+    const int i = cells.lo.x() + int(c % extent.x());
+    const int j = cells.lo.y() + int(c / extent.x() % extent.y());
+    const int k = cells.lo.z() + int(c / (std::int64_t(extent.x()) * extent.y()));
+    return cell_water_fraction(i, j, k);
   });
   const double dx = m_grid.dx();
   return sum * dx * dx * dx;

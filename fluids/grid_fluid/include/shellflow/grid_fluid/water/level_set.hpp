@@ -35,12 +35,19 @@ class LevelSet {
   /// water into them (verify/water_dam_break had 77% of its water after 3 s; 90% now). Exact for a linear φ, so still and tilted surfaces and thin layers on the
   /// floor keep their cells; φ itself is not changed, so no water is made.
   void cell_values(std::vector<double>& out, const std::array<bool, 6>& walls = {}) const;
-  /// Water volume [m^3]: Σ over nodes of H(−φ) Δx^3 with the smeared Heaviside of width
-  /// 1.5Δx (Osher and Fedkiw 2002, eq. 7.1), nodes on the domain's faces weighted by 1/2
-  /// per face (trapezoidal rule), so a flat pool of depth h gives h × area to round-off.
+  /// Water volume [m^3]: the exact volume where the piecewise-linear interpolant of φ
+  /// is below zero, each cell cut into six tetrahedra (marching tetrahedra's surface,
+  /// to O(Δx²) the liquid mesh's). Sharp, so a film or a drop thinner than a cell counts
+  /// for what it holds: a smeared Heaviside over-counts such water by up to its width
+  /// (a 64³ dam break read +3.8% where its mesh held +0.7%).
   double volume() const;
+  /// The same over the cells of `cells` (possibly empty: 0).
+  double volume(const grid::IndexBox& cells) const;
+  /// The water fraction of cell (i, j, k), in [0, 1], as volume() counts it.
+  double cell_water_fraction(int i, int j, int k) const;
   /// The volume where this water and `other` (φ of the same grid) differ [m^3]:
-  /// Σ |H(−φ) − H(−φ_other)| Δx^3 with volume()'s Heaviside and weights. A shape
+  /// Σ over nodes of |H(−φ) − H(−φ_other)| Δx^3 with the smeared Heaviside of width
+  /// 1.5Δx (Osher and Fedkiw 2002, eq. 7.1), 1/2 per domain face a node lies on. A shape
   /// error that a change of volume alone can hide (Enright et al. 2002, §5.3's area loss
   /// counts water lost and gained alike).
   double symmetric_difference(const std::vector<double>& other) const;
