@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <span>
 
 namespace shellflow::grid_fluid {
 
@@ -26,51 +27,64 @@ void apply_boundary_velocities(MacGrid& mac, const DomainBoundary& boundary) {
 void FaceNodeTransfer::faces_to_nodes(const MacGrid& mac, NodeFields& nodes,
                                       const ShellGeometry& shells,
                                       const geometry::ShellBand* band) const {
-  const std::span<const std::uint8_t> in_band =
-      band ? band->flags(Location::Node) : std::span<const std::uint8_t>();
-  const auto general = [&](std::int64_t node) {
-    faces_to_nodes_with_rays(mac, nodes, shells, node);
-  };
-  // Fast path away from shells: the plain average of the (up to four) faces of family a
-  // around the node, with the flat indices computed per row instead of per face.
+  // Every node first takes the plain average of the (up to four) faces of each family
+  // about it, one node row at a time from whole face rows (contiguous, vectorised: the
+  // per-node loop it replaces ran at 2 GB/s, a sixteenth of the machine's bandwidth);
+  // then the shell band's nodes are redone with rays.
   const Eigen::Vector3i cells = m_grid.cells();
   const Eigen::Vector3i node_counts = m_grid.counts(Location::Node);
-  std::array<Eigen::Vector3i, 3> face_counts;
-  for (int a = 0; a < 3; ++a) face_counts[a] = m_grid.counts(face_location(a));
-  const auto plain_average = [&](const Eigen::Vector3i& ijk, std::int64_t node) {
-    for (int a = 0; a < 3; ++a) {
-      const int b = (a + 1) % 3;
-      const int c = (a + 2) % 3;
-      const Eigen::Vector3i& n = face_counts[a];
-      const double* u = mac.face_velocity(a).data();
-      const int b_lo = std::max(ijk[b] - 1, 0), b_hi = std::min(ijk[b], cells[b] - 1);
-      const int c_lo = std::max(ijk[c] - 1, 0), c_hi = std::min(ijk[c], cells[c] - 1);
-      double sum = 0.0;
-      int terms = 0;
-      Eigen::Vector3i f = ijk;
-      for (int fb = b_lo; fb <= b_hi; ++fb)
-        for (int fc = c_lo; fc <= c_hi; ++fc) {
-          f[b] = fb;
-          f[c] = fc;
-          sum += u[f.x() + std::int64_t(n.x()) * (f.y() + std::int64_t(n.y()) * f.z())];
-          ++terms;
-        }
-      nodes.velocity(a)[node] = terms > 0 ? sum / terms : 0.0;
-    }
-  };
+  const int nx = cells.x();
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 0; k < node_counts.z(); ++k)
-    for (int j = 0; j < node_counts.y(); ++j)
-      for (int i = 0; i < node_counts.x(); ++i) {
-        const std::int64_t node =
-            i + std::int64_t(node_counts.x()) * (j + std::int64_t(node_counts.y()) * k);
-        const bool rays = !in_band.empty() && in_band[node] != 0;
-        if (!rays) {
-          plain_average(Eigen::Vector3i(i, j, k), node);
-        } else {
-          general(node);
+    for (int j = 0; j < node_counts.y(); ++j) {
+      const std::int64_t row = std::int64_t(node_counts.x()) * (j + std::int64_t(node_counts.y()) * k);
+      for (int a = 0; a < 3; ++a) {
+        const Eigen::Vector3i fc = m_grid.counts(face_location(a));
+        const double* u = mac.face_velocity(a).data();
+        // The face rows (·, j', k') about node row (j, k): j' = j for the y-faces, else
+        // j − 1 and j inside the grid; likewise k'.
+        const double* rows[4];
+        int count = 0;
+        const int j_lo = a == 1 ? j : std::max(j - 1, 0), j_hi = a == 1 ? j : std::min(j, cells.y() - 1);
+        const int k_lo = a == 2 ? k : std::max(k - 1, 0), k_hi = a == 2 ? k : std::min(k, cells.z() - 1);
+        for (int kk = k_lo; kk <= k_hi; ++kk)
+          for (int jj = j_lo; jj <= j_hi; ++jj)
+            rows[count++] = u + std::int64_t(fc.x()) * (jj + std::int64_t(fc.y()) * kk);
+        double* out = nodes.velocity(a).data() + row;
+        if (count == 0) {
+          std::fill(out, out + node_counts.x(), 0.0);
+          continue;
+        }
+        const double inv = 1.0 / count;
+        if (a == 0) {  // x-face rows are as long as node rows
+          for (int i = 0; i <= nx; ++i) {
+            double sum = 0.0;
+            for (int r = 0; r < count; ++r) sum += rows[r][i];
+            out[i] = sum * inv;
+          }
+          continue;
+        }
+        // Faces i − 1 and i along x; one at the ends.
+        const auto column_sum = [&](int i) {
+          double sum = 0.0;
+          for (int r = 0; r < count; ++r) sum += rows[r][i];
+          return sum;
+        };
+        out[0] = column_sum(0) * inv;
+        out[nx] = column_sum(nx - 1) * inv;
+        const double half = 0.5 * inv;
+        for (int i = 1; i < nx; ++i) {
+          double sum = 0.0;
+          for (int r = 0; r < count; ++r) sum += rows[r][i - 1] + rows[r][i];
+          out[i] = sum * half;
         }
       }
+    }
+  if (band == nullptr || shells.empty()) return;  // no shell: every face is seen
+  const std::span<const std::int64_t> near = band->samples(Location::Node);
+  const std::int64_t m = static_cast<std::int64_t>(near.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t s = 0; s < m; ++s) faces_to_nodes_with_rays(mac, nodes, shells, near[s]);
 }
 
 void FaceNodeTransfer::faces_to_nodes_with_rays(const MacGrid& mac, NodeFields& nodes,

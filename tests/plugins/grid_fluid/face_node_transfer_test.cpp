@@ -1,0 +1,73 @@
+// §4.2's transfer of face velocities to the nodes: the row kernel used away from shells
+// against the per-node path the shell band takes.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "grid_fluid_test_support.hpp"
+#include "shellflow/geometry/aabb.hpp"
+#include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
+#include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+
+namespace shellflow::grid_fluid {
+namespace {
+
+using grid::Location;
+
+class RowsAgainstNodes : public testing::TestWithParam<Eigen::Vector3i> {};
+
+TEST_P(RowsAgainstNodes, EveryNodeTakesTheMeanOfTheFacesAboutIt) {
+  // Random face velocities on a box of cells (thin axes included: one cell across). The
+  // row kernel must give every node the mean of the up to four faces of each family
+  // about it, as the per-node path does where a shell lies so far off that every face
+  // is seen: equal to round-off (the sums only run in another order).
+  const Eigen::Vector3i cells = GetParam();
+  const grid::UniformGrid grid(Eigen::Vector3d(0.2, -0.1, 0.3), 0.1, cells);
+  MacGrid mac(grid);
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> value(-2.0, 2.0);
+  for (int a = 0; a < 3; ++a)
+    for (double& u : mac.face_velocity(a)) u = value(random);
+  const FaceNodeTransfer transfer(grid);
+  NodeFields rows(grid, 300.0, false), per_node(grid, 300.0, false);
+  transfer.faces_to_nodes(mac, rows, ShellGeometry(), nullptr);
+
+  // A plate 10 m away: no ray meets it, but a band over the whole grid sends every node
+  // down the per-node path.
+  const std::vector<sdk::ShellSurface> far{
+      test::make_plate({10.0, 10.0, 10.0}, Eigen::Vector3d::UnitY(), 0.5, 3)};
+  const ShellGeometry shells(far, 1e-6);
+  geometry::ShellBand band(grid);
+  const geometry::Aabb everything(grid.origin() - Eigen::Vector3d::Ones(),
+                                  grid.upper() + Eigen::Vector3d::Ones());
+  band.add_boxes(std::span<const geometry::Aabb>(&everything, 1), 0.0);
+  ASSERT_EQ(static_cast<std::int64_t>(band.samples(Location::Node).size()),
+            grid.size(Location::Node));
+  transfer.faces_to_nodes(mac, per_node, shells, &band);
+
+  for (int a = 0; a < 3; ++a)
+    for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
+      ASSERT_NEAR(rows.velocity(a)[i], per_node.velocity(a)[i], 1e-15 * 8.0)
+          << "axis " << a << " node " << grid.coordinates(Location::Node, i).transpose();
+  // And one node by hand: an interior node's x velocity is the mean of its four x-faces.
+  if ((cells.array() >= 2).all()) {
+    const Eigen::Vector3i node(1, 1, 1);
+    double sum = 0.0;
+    for (int dj = -1; dj <= 0; ++dj)
+      for (int dk = -1; dk <= 0; ++dk)
+        sum += mac.face_velocity(0)[grid.index(Location::FaceX, node + Eigen::Vector3i(0, dj, dk))];
+    EXPECT_NEAR(rows.velocity(0)[grid.index(Location::Node, node)], 0.25 * sum, 1e-15 * 8.0);
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Boxes, RowsAgainstNodes,
+                         testing::Values(Eigen::Vector3i(5, 3, 4), Eigen::Vector3i(1, 4, 3),
+                                         Eigen::Vector3i(4, 1, 2), Eigen::Vector3i(3, 2, 1),
+                                         Eigen::Vector3i(1, 1, 1)));
+
+}  // namespace
+}  // namespace shellflow::grid_fluid
