@@ -11,6 +11,8 @@
 // The arrays per call (N nodes ≈ N cells ≈ N faces per family):
 //   faces → nodes (§4.2)           read 3 face velocities, write 3 node velocities     6 × 8N
 //   node advection (§4.1, smoke)   read 3 velocities + density + temperature, write 5 10 × 8N
+//   vorticity confinement (smoke)  read u (3), write ω (3) and |ω|; read them back,
+//                                  u read+write                                   17 × 8N
 //   increments → faces (§4.2)      read u* (3) and u^n (3) at nodes, faces read+write 12 × 8N
 //   Laplacian product + dot        read x, 3 face weights; write y                     5 × 8N
 //   V-cycle (float, McAdams)       fine level only: in and out conversion (12 + 12),
@@ -31,6 +33,7 @@
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/mac/semi_lagrangian_advector.hpp"
 #include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
+#include "shellflow/grid_fluid/smoke/smoke_forces.hpp"
 #include "shellflow/linear/grid_laplacian.hpp"
 #include "shellflow/linear/multigrid_preconditioner.hpp"
 
@@ -125,6 +128,18 @@ void BM_IncrementsToFaces(benchmark::State& state) {
   state.SetBytesProcessed(state.iterations() * bytes);
 }
 
+void BM_VorticityConfinement(benchmark::State& state) {
+  const grid::UniformGrid g = cube(static_cast<int>(state.range(0)));
+  MacGrid mac(g);
+  fill_faces(mac, 0.0);
+  NodeFields nodes(g, kAmbient);
+  FaceNodeTransfer(g).faces_to_nodes(mac, nodes, ShellGeometry(), nullptr);
+  grid_fluid::SmokeForces forces(g);
+  for (auto _ : state)
+    benchmark::DoNotOptimize(forces.add_vorticity_confinement(nodes, 1e-6, 0.3, ShellGeometry(), nullptr));
+  state.SetBytesProcessed(state.iterations() * 17 * 8 * nodes.size());
+}
+
 linear::GridLaplacian unit_laplacian(int n) {
   linear::GridLaplacian a(Eigen::Vector3i(n, n, n));
   for (int axis = 0; axis < 3; ++axis) std::fill(a.weights(axis).begin(), a.weights(axis).end(), 1.0);
@@ -178,6 +193,7 @@ void BM_Projection(benchmark::State& state) {
 
 BENCHMARK(BM_FacesToNodes)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_NodeAdvection)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_VorticityConfinement)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_IncrementsToFaces)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_LaplacianProduct)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK(BM_VCycle)->Arg(128)->Unit(benchmark::kMillisecond)->UseRealTime();

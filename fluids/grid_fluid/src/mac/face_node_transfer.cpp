@@ -30,53 +30,68 @@ void FaceNodeTransfer::faces_to_nodes(const MacGrid& mac, NodeFields& nodes,
   // Every node first takes the plain average of the (up to four) faces of each family
   // about it, one node row at a time from whole face rows (contiguous, vectorised: the
   // per-node loop it replaces ran at 2 GB/s, a sixteenth of the machine's bandwidth);
-  // then the shell band's nodes are redone with rays.
+  // then the shell band's nodes are redone with rays. The faces are summed in the order
+  // faces_to_nodes_with_rays sums them and divided alike, so a node gets the same bits
+  // on either path (a run resumed from a checkpoint labels another band).
   const Eigen::Vector3i cells = m_grid.cells();
   const Eigen::Vector3i node_counts = m_grid.counts(Location::Node);
   const int nx = cells.x();
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 0; k < node_counts.z(); ++k)
     for (int j = 0; j < node_counts.y(); ++j) {
-      const std::int64_t row = std::int64_t(node_counts.x()) * (j + std::int64_t(node_counts.y()) * k);
+      const Eigen::Vector3i node(0, j, k);
+      const std::int64_t row =
+          std::int64_t(node_counts.x()) * (j + std::int64_t(node_counts.y()) * k);
       for (int a = 0; a < 3; ++a) {
+        const int b = (a + 1) % 3, c = (a + 2) % 3;
         const Eigen::Vector3i fc = m_grid.counts(face_location(a));
         const double* u = mac.face_velocity(a).data();
-        // The face rows (·, j', k') about node row (j, k): j' = j for the y-faces, else
-        // j − 1 and j inside the grid; likewise k'.
-        const double* rows[4];
-        int count = 0;
-        const int j_lo = a == 1 ? j : std::max(j - 1, 0), j_hi = a == 1 ? j : std::min(j, cells.y() - 1);
-        const int k_lo = a == 2 ? k : std::max(k - 1, 0), k_hi = a == 2 ? k : std::min(k, cells.z() - 1);
-        for (int kk = k_lo; kk <= k_hi; ++kk)
-          for (int jj = j_lo; jj <= j_hi; ++jj)
-            rows[count++] = u + std::int64_t(fc.x()) * (jj + std::int64_t(fc.y()) * kk);
-        double* out = nodes.velocity(a).data() + row;
-        if (count == 0) {
-          std::fill(out, out + node_counts.x(), 0.0);
-          continue;
-        }
-        const double inv = 1.0 / count;
-        if (a == 0) {  // x-face rows are as long as node rows
-          for (int i = 0; i <= nx; ++i) {
-            double sum = 0.0;
-            for (int r = 0; r < count; ++r) sum += rows[r][i];
-            out[i] = sum * inv;
+        // The faces (a, b − {1,0}, c − {1,0}) in faces_to_nodes_with_rays' order, each
+        // as a face row and an offset along x (−1 for face i − 1 where x is b or c).
+        const double* term_row[4];
+        int term_dx[4];
+        int terms = 0;
+        for (int db = -1; db <= 0; ++db)
+          for (int dc = -1; dc <= 0; ++dc) {
+            Eigen::Vector3i f = node;
+            f[b] += db;
+            f[c] += dc;
+            if ((b != 0 && (f[b] < 0 || f[b] >= cells[b])) ||
+                (c != 0 && (f[c] < 0 || f[c] >= cells[c])))
+              continue;
+            term_row[terms] = u + std::int64_t(fc.x()) * (f.y() + std::int64_t(fc.y()) * f.z());
+            term_dx[terms] = b == 0 ? db : (c == 0 ? dc : 0);
+            ++terms;
           }
-          continue;
-        }
-        // Faces i − 1 and i along x; one at the ends.
-        const auto column_sum = [&](int i) {
+        double* out = nodes.velocity(a).data() + row;
+        const auto node_value = [&](int i) {  // any i: the faces inside the grid only
           double sum = 0.0;
-          for (int r = 0; r < count; ++r) sum += rows[r][i];
-          return sum;
+          int count = 0;
+          for (int t = 0; t < terms; ++t) {
+            const int fi = i + term_dx[t];
+            if (fi < 0 || fi >= fc.x()) continue;
+            sum += term_row[t][fi];
+            ++count;
+          }
+          return count > 0 ? sum / count : 0.0;
         };
-        out[0] = column_sum(0) * inv;
-        out[nx] = column_sum(nx - 1) * inv;
-        const double half = 0.5 * inv;
-        for (int i = 1; i < nx; ++i) {
-          double sum = 0.0;
-          for (int r = 0; r < count; ++r) sum += rows[r][i - 1] + rows[r][i];
-          out[i] = sum * half;
+        // x-faces: every node of the row sees all its terms; else the row's two ends
+        // lose the faces beyond them.
+        const int first = a == 0 ? 0 : 1, last = a == 0 ? nx : nx - 1;
+        if (a != 0) {
+          out[0] = node_value(0);
+          out[nx] = node_value(nx);
+        }
+        const double* r0 = term_row[0] + term_dx[0];
+        if (terms == 4) {
+          const double *r1 = term_row[1] + term_dx[1], *r2 = term_row[2] + term_dx[2],
+                       *r3 = term_row[3] + term_dx[3];
+          for (int i = first; i <= last; ++i) out[i] = (((r0[i] + r1[i]) + r2[i]) + r3[i]) / 4.0;
+        } else if (terms == 2) {
+          const double* r1 = term_row[1] + term_dx[1];
+          for (int i = first; i <= last; ++i) out[i] = (r0[i] + r1[i]) / 2.0;
+        } else {
+          for (int i = first; i <= last; ++i) out[i] = node_value(i);
         }
       }
     }
