@@ -8,6 +8,7 @@
 #include "grid_fluid_test_support.hpp"
 #include "shellflow/geometry/aabb.hpp"
 #include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
@@ -64,6 +65,61 @@ TEST_P(RowsAgainstNodes, EveryNodeTakesTheMeanOfTheFacesAboutIt) {
         sum += mac.face_velocity(0)[grid.index(Location::FaceX, node + Eigen::Vector3i(0, dj, dk))];
     EXPECT_NEAR(rows.velocity(0)[grid.index(Location::Node, node)], 0.25 * sum, 1e-15 * 8.0);
   }
+}
+
+TEST_P(RowsAgainstNodes, EveryFaceTakesTheMeanIncrementOfItsNodes) {
+  // §4.2's increments back to the faces: the row path away from shells against the
+  // per-face path the band takes, with a far plate and a band over the whole grid, bit
+  // for bit (as above); the walls' faces and an inflow side are left alone by both.
+  const Eigen::Vector3i cells = GetParam();
+  const grid::UniformGrid grid(Eigen::Vector3d(0.2, -0.1, 0.3), 0.1, cells);
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> value(-2.0, 2.0);
+  MacGrid start(grid);
+  for (int a = 0; a < 3; ++a)
+    for (double& u : start.face_velocity(a)) u = value(random);
+  NodeFields u_star(grid, 300.0, false);
+  std::array<std::vector<double>, 3> u_n;
+  for (int a = 0; a < 3; ++a) {
+    for (double& u : u_star.velocity(a)) u = value(random);
+    u_n[a].resize(u_star.velocity(a).size());
+    for (double& u : u_n[a]) u = value(random);
+  }
+  const nlohmann::json sides = {{"x_max", {{"type", "open"}}},
+                                {"y_min", {{"type", "inflow"}, {"velocity", {0, 1, 0}}}}};
+  const DomainBoundary boundary(sides, "/boundary");
+  const std::array<std::vector<std::uint8_t>, 3> no_faces;
+  FaceNodeTransfer transfer(grid);
+  MacGrid rows = start;
+  transfer.increments_to_faces(rows, u_star, u_n, {}, no_faces, ShellGeometry(), nullptr,
+                               boundary);
+  const std::vector<sdk::ShellSurface> far{
+      test::make_plate({10.0, 10.0, 10.0}, Eigen::Vector3d::UnitY(), 0.5, 3)};
+  const ShellGeometry shells(far, 1e-6);
+  geometry::ShellBand band(grid);
+  const geometry::Aabb everything(grid.origin() - Eigen::Vector3d::Ones(),
+                                  grid.upper() + Eigen::Vector3d::Ones());
+  band.add_boxes(std::span<const geometry::Aabb>(&everything, 1), 0.0);
+  MacGrid per_face = start;
+  transfer.increments_to_faces(per_face, u_star, u_n, {}, no_faces, shells, &band, boundary);
+  int changed = 0;
+  for (int a = 0; a < 3; ++a)
+    for (size_t f = 0; f < start.face_velocity(a).size(); ++f) {
+      ASSERT_EQ(rows.face_velocity(a)[f], per_face.face_velocity(a)[f]) << "axis " << a;
+      changed += rows.face_velocity(a)[f] != start.face_velocity(a)[f];
+    }
+  // Every face but those on the five fixed sides moved (x_max is open).
+  int fixed = 0;
+  for (int a = 0; a < 3; ++a) {
+    const Location loc = face_location(a);
+    for (std::int64_t f = 0; f < grid.size(loc); ++f) {
+      const Eigen::Vector3i ijk = grid.coordinates(loc, f);
+      fixed += (ijk[a] == 0) || (ijk[a] == cells[a] && a != 0);
+    }
+  }
+  int total = 0;
+  for (int a = 0; a < 3; ++a) total += static_cast<int>(start.face_velocity(a).size());
+  EXPECT_EQ(changed, total - fixed);
 }
 
 INSTANTIATE_TEST_SUITE_P(Boxes, RowsAgainstNodes,

@@ -205,70 +205,103 @@ void FaceNodeTransfer::increments_to_faces(
     const std::int64_t node_stride[3] = {1, nodes.x(), std::int64_t(nodes.x()) * nodes.y()};
     const std::int64_t corner_offset[4] = {0, node_stride[c], node_stride[b],
                                            node_stride[b] + node_stride[c]};
+    // One face, any path: fixed faces kept, else the mean increment of its nodes (the
+    // held source nodes and, near shells, the nodes it cannot see left out).
+    const auto face_update = [&](int i, int j, int k) {
+      const std::int64_t face = i + std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
+      const Eigen::Vector3i ijk(i, j, k);
+      if (fixed_boundary_face(m_grid, boundary, a, ijk)) return;
+      const std::int64_t first = i + std::int64_t(nodes.x()) * (j + std::int64_t(nodes.y()) * k);
+      std::int64_t corner[4];
+      for (int m = 0; m < 4; ++m) corner[m] = first + corner_offset[m];
+      const bool rays = !in_band.empty() && in_band[face] != 0;
+      const bool near_source = held.faces.contains(ijk);
+      if (!rays && !near_source) {
+        // Fast path away from shells: the plain average of the four increments.
+        double du = 0.0;
+        for (const std::int64_t v : corner) du += us[v] - un[v];
+        u[face] += 0.25 * du;
+        return;
+      }
+      const auto held_node = [&](std::int64_t v) { return near_source && held.flag[v] != 0; };
+      if (!rays) {
+        double du = 0.0;
+        int terms = 0;
+        for (const std::int64_t v : corner)
+          if (!held_node(v)) {
+            du += us[v] - un[v];
+            ++terms;
+          }
+        if (terms > 0) u[face] += du / terms;
+        return;
+      }
+      const Eigen::Vector3d y = m_grid.position(loc, ijk);
+      const bool swept = has_swept && face_swept[a][face] != 0;
+      double du = 0.0;
+      int du_terms = 0;
+      double full = 0.0;
+      int full_terms = 0;
+      Eigen::Vector3d object_sum = Eigen::Vector3d::Zero();
+      int object_terms = 0;
+      for (const std::int64_t v : corner) {
+        const Eigen::Vector3d x = m_grid.position(Location::Node, v);
+        if (!shells.visible(y, x)) {
+          object_sum += shells.object_velocity(y, x);
+          ++object_terms;
+          continue;
+        }
+        full += us[v];
+        ++full_terms;
+        if ((node_valid_before.empty() || node_valid_before[v] != 0) && !held_node(v)) {
+          du += us[v] - un[v];
+          ++du_terms;
+        }
+      }
+      if (!swept && du_terms > 0) {
+        u[face] += du / du_terms;
+      } else if (full_terms > 0) {
+        u[face] = full / full_terms;  // swept face, or only swept visible nodes
+      } else if (object_terms > 0) {
+        u[face] = object_sum[a] / object_terms;  // §4.2: no visible node
+      }
+    };
 #pragma omp parallel for collapse(2) schedule(static)
     for (int k = 0; k < n.z(); ++k)
-      for (int j = 0; j < n.y(); ++j)
-        for (int i = 0; i < n.x(); ++i) {
-          const std::int64_t face = i + std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
-          const Eigen::Vector3i ijk(i, j, k);
-          if (fixed_boundary_face(m_grid, boundary, a, ijk)) continue;
-          const std::int64_t first =
-              i + std::int64_t(nodes.x()) * (j + std::int64_t(nodes.y()) * k);
-          std::int64_t corner[4];
-          for (int m = 0; m < 4; ++m) corner[m] = first + corner_offset[m];
-          const bool rays = !in_band.empty() && in_band[face] != 0;
-          const bool near_source = held.faces.contains(ijk);
-          if (!rays && !near_source) {
-            // Fast path away from shells: the plain average of the four increments.
-            double du = 0.0;
-            for (const std::int64_t v : corner) du += us[v] - un[v];
-            u[face] += 0.25 * du;
-            continue;
-          }
-          const auto held_node = [&](std::int64_t v) {
-            return near_source && held.flag[v] != 0;
-          };
-          if (!rays) {
-            double du = 0.0;
-            int terms = 0;
-            for (const std::int64_t v : corner)
-              if (!held_node(v)) {
-                du += us[v] - un[v];
-                ++terms;
-              }
-            if (terms > 0) u[face] += du / terms;
-            continue;
-          }
-          const Eigen::Vector3d y = m_grid.position(loc, ijk);
-          const bool swept = has_swept && face_swept[a][face] != 0;
-          double du = 0.0;
-          int du_terms = 0;
-          double full = 0.0;
-          int full_terms = 0;
-          Eigen::Vector3d object_sum = Eigen::Vector3d::Zero();
-          int object_terms = 0;
-          for (const std::int64_t v : corner) {
-            const Eigen::Vector3d x = m_grid.position(Location::Node, v);
-            if (!shells.visible(y, x)) {
-              object_sum += shells.object_velocity(y, x);
-              ++object_terms;
-              continue;
-            }
-            full += us[v];
-            ++full_terms;
-            if ((node_valid_before.empty() || node_valid_before[v] != 0) && !held_node(v)) {
-              du += us[v] - un[v];
-              ++du_terms;
-            }
-          }
-          if (!swept && du_terms > 0) {
-            u[face] += du / du_terms;
-          } else if (full_terms > 0) {
-            u[face] = full / full_terms;  // swept face, or only swept visible nodes
-          } else if (object_terms > 0) {
-            u[face] = object_sum[a] / object_terms;  // §4.2: no visible node
-          }
+      for (int j = 0; j < n.y(); ++j) {
+        const std::int64_t row = std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
+        // A row with no face in the shell band or next to a held source face, and no
+        // fixed face but possibly its ends along x: the plain average of the four
+        // increments, summed in face_update's order, over contiguous arrays.
+        bool plain =
+            !held.faces.contains(Eigen::Vector3i(held.faces.lo.x(), j, k)) || held.faces.empty();
+        if (plain && !in_band.empty())
+          plain = std::none_of(in_band.begin() + row, in_band.begin() + row + n.x(),
+                               [](std::uint8_t f) { return f != 0; });
+        if (plain && a != 0 && fixed_boundary_face(m_grid, boundary, a, Eigen::Vector3i(0, j, k)))
+          continue;  // the whole row lies on a wall or inflow side
+        if (!plain) {
+          for (int i = 0; i < n.x(); ++i) face_update(i, j, k);
+          continue;
         }
+        int first = 0, last = n.x() - 1;
+        if (a == 0) {  // the row's two ends lie on the x sides
+          if (fixed_boundary_face(m_grid, boundary, 0, Eigen::Vector3i(0, j, k))) first = 1;
+          if (fixed_boundary_face(m_grid, boundary, 0, Eigen::Vector3i(last, j, k))) --last;
+        }
+        const std::int64_t node0 = std::int64_t(nodes.x()) * (j + std::int64_t(nodes.y()) * k);
+        const double* s0 = us.data() + node0 + corner_offset[0];
+        const double* s1 = us.data() + node0 + corner_offset[1];
+        const double* s2 = us.data() + node0 + corner_offset[2];
+        const double* s3 = us.data() + node0 + corner_offset[3];
+        const double* n0 = un.data() + node0 + corner_offset[0];
+        const double* n1 = un.data() + node0 + corner_offset[1];
+        const double* n2 = un.data() + node0 + corner_offset[2];
+        const double* n3 = un.data() + node0 + corner_offset[3];
+        double* out = u.data() + row;
+        for (int i = first; i <= last; ++i)
+          out[i] +=
+              0.25 * ((((s0[i] - n0[i]) + (s1[i] - n1[i])) + (s2[i] - n2[i])) + (s3[i] - n3[i]));
+      }
   }
 }
 
