@@ -82,14 +82,18 @@ void FaceNodeTransfer::faces_to_nodes(const MacGrid& mac, NodeFields& nodes,
           out[0] = node_value(0);
           out[nx] = node_value(nx);
         }
-        const double* r0 = term_row[0] + term_dx[0];
+        // Indexed as row[i + dx] (no pointer is formed before a row's start).
+        const double* r0 = term_row[0];
+        const int d0 = term_dx[0];
         if (terms == 4) {
-          const double *r1 = term_row[1] + term_dx[1], *r2 = term_row[2] + term_dx[2],
-                       *r3 = term_row[3] + term_dx[3];
-          for (int i = first; i <= last; ++i) out[i] = (((r0[i] + r1[i]) + r2[i]) + r3[i]) / 4.0;
+          const double *r1 = term_row[1], *r2 = term_row[2], *r3 = term_row[3];
+          const int d1 = term_dx[1], d2 = term_dx[2], d3 = term_dx[3];
+          for (int i = first; i <= last; ++i)
+            out[i] = (((r0[i + d0] + r1[i + d1]) + r2[i + d2]) + r3[i + d3]) / 4.0;
         } else if (terms == 2) {
-          const double* r1 = term_row[1] + term_dx[1];
-          for (int i = first; i <= last; ++i) out[i] = (r0[i] + r1[i]) / 2.0;
+          const double* r1 = term_row[1];
+          const int d1 = term_dx[1];
+          for (int i = first; i <= last; ++i) out[i] = (r0[i + d0] + r1[i + d1]) / 2.0;
         } else {
           for (int i = first; i <= last; ++i) out[i] = node_value(i);
         }
