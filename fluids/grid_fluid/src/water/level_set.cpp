@@ -137,11 +137,15 @@ constexpr std::array<std::array<int, 4>, 6> kCubeTetrahedra = {
 
 }  // namespace
 
-double LevelSet::cell_water_fraction(int i, int j, int k) const {
-  std::array<double, 8> corner{};
+namespace {
+
+/// The water fraction of the cell whose corner 0 is node `base` (corner c at base +
+/// offset[c]).
+double cell_fraction(const double* phi, std::int64_t base, const std::int64_t (&offset)[8]) {
+  std::array<double, 8> corner;
   bool any_wet = false, any_dry = false;
   for (int c = 0; c < 8; ++c) {
-    corner[c] = m_phi[m_grid.index(Location::Node, i + (c & 1), j + (c >> 1 & 1), k + (c >> 2))];
+    corner[c] = phi[base + offset[c]];
     (corner[c] < 0.0 ? any_wet : any_dry) = true;
   }
   if (!any_dry) return 1.0;
@@ -152,6 +156,15 @@ double LevelSet::cell_water_fraction(int i, int j, int k) const {
   return sum / 6.0;
 }
 
+}  // namespace
+
+double LevelSet::cell_water_fraction(int i, int j, int k) const {
+  const Eigen::Vector3i n = m_grid.counts(Location::Node);
+  const std::int64_t sy = n.x(), sz = std::int64_t(n.x()) * n.y();
+  const std::int64_t offset[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
+  return cell_fraction(m_phi.data(), m_grid.index(Location::Node, i, j, k), offset);
+}
+
 double LevelSet::volume() const {
   const Eigen::Vector3i n = m_grid.cells();
   return volume({Eigen::Vector3i::Zero(), n - Eigen::Vector3i::Ones()});
@@ -159,13 +172,20 @@ double LevelSet::volume() const {
 
 double LevelSet::volume(const grid::IndexBox& cells) const {
   if (cells.empty()) return 0.0;
-  const Eigen::Vector3i extent = cells.hi - cells.lo + Eigen::Vector3i::Ones();
-  const std::int64_t count = std::int64_t(extent.x()) * extent.y() * extent.z();
-  const double sum = ordered_sum(count, [&](std::int64_t c) {
-    const int i = cells.lo.x() + int(c % extent.x());
-    const int j = cells.lo.y() + int(c / extent.x() % extent.y());
-    const int k = cells.lo.z() + int(c / (std::int64_t(extent.x()) * extent.y()));
-    return cell_water_fraction(i, j, k);
+  const Eigen::Vector3i n = m_grid.counts(Location::Node);
+  const std::int64_t sy = n.x(), sz = std::int64_t(n.x()) * n.y();
+  const std::int64_t offset[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
+  const int rows_y = cells.hi.y() - cells.lo.y() + 1;
+  const std::int64_t rows = std::int64_t(rows_y) * (cells.hi.z() - cells.lo.z() + 1);
+  // One term per row of cells along x, each summed in order: the same bits on any
+  // number of threads (ordered_sum).
+  const double sum = ordered_sum(rows, [&](std::int64_t r) {
+    const int j = cells.lo.y() + int(r % rows_y), k = cells.lo.z() + int(r / rows_y);
+    const std::int64_t first = m_grid.index(Location::Node, cells.lo.x(), j, k);
+    double row = 0.0;
+    for (int i = 0; i <= cells.hi.x() - cells.lo.x(); ++i)
+      row += cell_fraction(m_phi.data(), first + i, offset);
+    return row;
   });
   const double dx = m_grid.dx();
   return sum * dx * dx * dx;
