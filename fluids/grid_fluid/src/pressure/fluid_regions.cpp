@@ -18,8 +18,10 @@ int FluidRegions::enclosed_count() const {
 linear::ConstantNullSpace FluidRegions::null_space(std::span<const std::int64_t> unknowns) const {
   std::vector<int> group_of_region(count(), -1);
   int groups = 0;
+  // A sealed cell's row is zero and its right-hand side the caller's to zero: no constant
+  // to fix (a source's thousands of them cost two passes per CG iteration as groups).
   for (int r = 0; r < count(); ++r)
-    if (enclosed[r] != 0) group_of_region[r] = groups++;
+    if (enclosed[r] != 0 && (sealed.empty() || sealed[r] == 0)) group_of_region[r] = groups++;
   if (groups == 0) return {};
   std::vector<int> group(unknowns.empty() ? region.size() : unknowns.size());
   for (size_t u = 0; u < group.size(); ++u) {

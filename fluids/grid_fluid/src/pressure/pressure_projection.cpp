@@ -224,6 +224,8 @@ void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats
   const int n = m_laplacian.size();
   Eigen::VectorXd flux;
   cell_fluxes(mac, flux);
+  for (int r = 0; r < m_regions.count(); ++r)  // a source sets these cells' divergence
+    if (m_regions.sealed[r] != 0) flux[m_regions.cells[m_regions.start[r]]] = 0.0;
   Eigen::VectorXd b(n), x(n);
   for (int u = 0; u < n; ++u) {
     const std::int64_t cell = m_box_cells[u];

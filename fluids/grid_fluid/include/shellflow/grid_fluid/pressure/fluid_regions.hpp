@@ -32,8 +32,9 @@ struct FluidRegions {
   int count() const { return static_cast<int>(enclosed.size()); }
   std::int64_t size(int r) const { return start[r + 1] - start[r]; }
   int enclosed_count() const;
-  /// The constants of the enclosed regions (numbered in region order): the null space of
-  /// the pressure operator. Empty when every region is open. Unknown u is cell
+  /// The constants of the enclosed regions that are not sealed (numbered in region
+  /// order): the null space of the pressure operator. A sealed cell's row is zero, so its
+  /// right-hand side must be zero: the caller sets it so. Empty when every region is open. Unknown u is cell
   /// `unknowns[u]` (empty: unknown u is cell u).
   linear::ConstantNullSpace null_space(std::span<const std::int64_t> unknowns = {}) const;
 };
