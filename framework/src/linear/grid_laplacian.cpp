@@ -1,5 +1,6 @@
 #include "shellflow/linear/grid_laplacian.hpp"
 
+#include <cstring>
 #include <string>
 
 #include "cell_stencil.hpp"
@@ -136,6 +137,41 @@ SparseMatrix GridLaplacian::to_sparse() const {
         });
       }
   return a;
+}
+
+std::uint64_t GridLaplacian::fingerprint() const {
+  // FNV-1a over 64-bit words in 64 fixed chunks per array, each chunk finished with
+  // splitmix64's mixer, the chunks combined in order: the same value on any number of
+  // threads.
+  constexpr std::uint64_t kPrime = 0x100000001b3ULL;
+  const auto finish = [](std::uint64_t z) {
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  };
+  std::uint64_t h = 0xcbf29ce484222325ULL;
+  const auto add = [&](std::uint64_t word) { h = finish((h ^ word) * kPrime); };
+  for (int a = 0; a < 3; ++a) add(static_cast<std::uint64_t>(m_cells[a]));
+  const auto add_array = [&](const std::vector<double>& v) {
+    constexpr int kChunks = 64;
+    std::array<std::uint64_t, kChunks> chunk{};
+    const std::int64_t n = static_cast<std::int64_t>(v.size());
+#pragma omp parallel for schedule(static)
+    for (int c = 0; c < kChunks; ++c) {
+      std::uint64_t g = 0xcbf29ce484222325ULL;
+      for (std::int64_t i = n * c / kChunks; i < n * (c + 1) / kChunks; ++i) {
+        std::uint64_t word;
+        std::memcpy(&word, &v[i], sizeof word);
+        g = (g ^ word) * kPrime;
+      }
+      chunk[c] = finish(g);
+    }
+    add(static_cast<std::uint64_t>(n));
+    for (const std::uint64_t c : chunk) add(c);
+  };
+  for (int a = 0; a < 3; ++a) add_array(m_weight[a]);
+  add_array(m_dirichlet);
+  return h;
 }
 
 }  // namespace shellflow::linear

@@ -274,6 +274,9 @@ MultigridPreconditioner::MultigridPreconditioner(MultigridSettings settings)
 }
 
 void MultigridPreconditioner::compute(const GridLaplacian& A) {
+  const std::uint64_t fingerprint = A.fingerprint();
+  if (m_built && fingerprint == m_fingerprint) return;
+  m_built = false;  // until the build below completes
   // Level sizes.
   std::vector<Eigen::Vector3i> sizes{A.cells()};
   while (sizes.back().minCoeff() >= kMinCellsToCoarsen)
@@ -327,6 +330,9 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
     level.b.resize(n);
     level.r.resize(n);
   }
+  m_fingerprint = fingerprint;
+  m_built = true;
+  ++m_builds;
 }
 
 void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {

@@ -16,6 +16,7 @@
 
 #include <Eigen/Core>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "shellflow/linear/linear_operator.hpp"
@@ -50,6 +51,11 @@ class GridLaplacian final : public LinearOperator {
   /// (no triplets): for MIC(0) and CHOLMOD. Every row stores its diagonal (0 for a cell
   /// with six zero-weight faces).
   SparseMatrix to_sparse() const;
+
+  /// A 64-bit hash of the operator (cells, face weights, Dirichlet conductances, bit for
+  /// bit): equal operators hash equal, so a preconditioner can tell that A did not change
+  /// (a smoke scene's walls and sources, step after step). One parallel pass.
+  std::uint64_t fingerprint() const;
 
  private:
   Eigen::Vector3i m_cells = Eigen::Vector3i::Zero();

@@ -59,8 +59,12 @@ class MultigridPreconditioner final : public Preconditioner {
   explicit MultigridPreconditioner(MultigridSettings settings = {});
 
   /// Builds the level hierarchy of A (weights copied; buffers reused when the grid size
-  /// does not change between calls).
+  /// does not change between calls). An A equal to the last one, bit for bit (its
+  /// fingerprint), keeps the hierarchy: a smoke scene's operator is the same every step
+  /// unless a shell moves, and the build costs as much as two V-cycles.
   void compute(const GridLaplacian& A);
+  /// How many times compute() has built a hierarchy (not counting the kept ones).
+  std::int64_t builds() const { return m_builds; }
 
   int size() const override { return m_levels.empty() ? 0 : m_levels[0].cells.prod(); }
   /// z = V-cycle(r) from a zero initial guess.
@@ -133,6 +137,9 @@ class MultigridPreconditioner final : public Preconditioner {
  private:
   MultigridSettings m_settings;
   std::vector<Level> m_levels;
+  std::uint64_t m_fingerprint = 0;  ///< of the operator the levels were built from
+  bool m_built = false;
+  std::int64_t m_builds = 0;
 };
 
 }  // namespace shellflow::linear
