@@ -26,7 +26,7 @@ double dot(const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
 SolveStats preconditioned_cg(const LinearOperator& A, const Preconditioner& M,
                              const Eigen::VectorXd& b, Eigen::VectorXd& x,
                              double relative_tolerance, int max_iterations,
-                             const ConstantNullSpace* null_space) {
+                             const ConstantNullSpace* null_space, PcgWorkspace* workspace) {
   const int n = A.size();
   if (b.size() != n || M.size() != n) {
     throw Error("preconditioned_cg: the operator has " + std::to_string(n) +
@@ -43,7 +43,10 @@ SolveStats preconditioned_cg(const LinearOperator& A, const Preconditioner& M,
     return stats;
   }
 
-  Eigen::VectorXd r(n), z(n), p(n), q(n);
+  PcgWorkspace local;
+  PcgWorkspace& work = workspace != nullptr ? *workspace : local;
+  for (Eigen::VectorXd* v : {&work.r, &work.z, &work.p, &work.q}) v->resize(n);
+  Eigen::VectorXd &r = work.r, &z = work.z, &p = work.p, &q = work.q;
   double relative = std::sqrt(A.residual(b, x, r)) / b_norm;
   bool relative_is_true = true;  // `relative` was computed from b - A x, not recursively
   bool restart = true;

@@ -214,9 +214,9 @@ void CouplingPressure::solve(Eigen::VectorXd& b, double dt, const DomainBoundary
   const RigidShellOperator coupled(m_laplacian, m_bodies, m_settings.fluid_density * dx * dx * dx);
   const linear::LinearOperator& op =
       m_bodies.empty() ? static_cast<const linear::LinearOperator&>(m_laplacian) : coupled;
-  const auto result = linear::preconditioned_cg(op, m_multigrid, b, x, m_settings.tolerance,
-                                                m_settings.max_iterations,
-                                                null_space.empty() ? nullptr : &null_space);
+  const auto result = linear::preconditioned_cg(
+      op, m_multigrid, b, x, m_settings.tolerance, m_settings.max_iterations,
+      null_space.empty() ? nullptr : &null_space, &m_pcg_work);
   stats.iterations = result.iterations;
   stats.relative_residual = result.relative_residual;
   stats.converged = result.converged;

@@ -222,11 +222,14 @@ void PressureProjection::build_operator() {
 
 void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats& stats) {
   const int n = m_laplacian.size();
-  Eigen::VectorXd flux;
+  Eigen::VectorXd& flux = m_flux;
   cell_fluxes(mac, flux);
   for (int r = 0; r < m_regions.count(); ++r)  // a source sets these cells' divergence
     if (m_regions.sealed[r] != 0) flux[m_regions.cells[m_regions.start[r]]] = 0.0;
-  Eigen::VectorXd b(n), x(n);
+  Eigen::VectorXd &b = m_b, &x = m_x;
+  b.resize(n);
+  x.resize(n);
+#pragma omp parallel for schedule(static)
   for (int u = 0; u < n; ++u) {
     const std::int64_t cell = m_box_cells[u];
     b[u] = air(cell) ? 0.0 : -flux[cell];  // no unknown in the air
@@ -246,7 +249,7 @@ void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats
         std::min(m_settings.tolerance, m_settings.tolerance * scale / b.norm());
     if (m_settings.preconditioner == PressurePreconditioner::Multigrid) {
       result = linear::preconditioned_cg(m_laplacian, m_multigrid, b, x, tolerance,
-                                         m_settings.max_iterations, &m_null_space);
+                                         m_settings.max_iterations, &m_null_space, &m_pcg_work);
     } else {
       linear::PcgMic0Solver pcg;
       pcg.compute(m_matrix);

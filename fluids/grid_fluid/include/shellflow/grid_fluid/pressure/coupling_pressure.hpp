@@ -56,6 +56,7 @@
 #include "shellflow/grid_fluid/pressure/rigid_shell_coupling.hpp"
 #include "shellflow/linear/grid_laplacian.hpp"
 #include "shellflow/linear/multigrid_preconditioner.hpp"
+#include "shellflow/linear/preconditioned_cg.hpp"
 #include "shellflow/sdk/shell_surface.hpp"
 
 namespace shellflow::grid_fluid {
@@ -167,6 +168,7 @@ class CouplingPressure {
   FluidRegions m_regions;
   linear::GridLaplacian m_laplacian;            ///< face weights β
   linear::MultigridPreconditioner m_multigrid;  ///< McAdams et al. 2010 V-cycle
+  linear::PcgWorkspace m_pcg_work;              ///< CG's vectors, kept between solves
   std::vector<double> m_scaled;
   // Step 3: per axis, the jump on the nodes and its validity; only touched entries are
   // non-zero between calls.

@@ -47,6 +47,7 @@
 #include "shellflow/linear/constant_null_space.hpp"
 #include "shellflow/linear/grid_laplacian.hpp"
 #include "shellflow/linear/multigrid_preconditioner.hpp"
+#include "shellflow/linear/preconditioned_cg.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -161,6 +162,8 @@ class PressureProjection {
   int m_enclosed_count = 0;
   std::vector<int> m_first_enclosed_cell;  ///< per enclosed group (CHOLMOD's pinned cell)
   linear::MultigridPreconditioner m_multigrid;
+  linear::PcgWorkspace m_pcg_work;         ///< CG's vectors, kept between solves
+  Eigen::VectorXd m_flux, m_b, m_x;        ///< solve()'s, likewise
   linear::SparseMatrix m_matrix;           ///< CSR form for MIC(0) and CHOLMOD
   const FreeSurface* m_surface = nullptr;  ///< during project() of a water scene
   std::vector<std::uint8_t> m_liquid;      ///< per cell, water scenes only
