@@ -297,7 +297,8 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
   // Solve, update the faces, and measure; a PCG solve whose largest cell divergence is
   // still above tolerance × max|u| (its stopping test bounds the 2-norm against max|u*|)
   // is refined by projecting the remaining divergence (iterative refinement, warm start 0).
-  std::vector<double> total(m_scaled.size(), 0.0);
+  std::vector<double>& total = m_total;
+  total.assign(m_scaled.size(), 0.0);
   double max_div = 0.0;
   double speed = 0.0;
   const int passes = m_settings.solver == PressureSolver::Pcg ? 3 : 1;
@@ -306,16 +307,20 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
     if (pass > 0) std::fill(m_scaled.begin(), m_scaled.end(), 0.0);
     solve(mac, scale, stats);
     apply_pressure(mac);
-    for (size_t i = 0; i < total.size(); ++i) total[i] += m_scaled[i];
+    const std::int64_t cells = static_cast<std::int64_t>(total.size());
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < cells; ++i) total[i] += m_scaled[i];
     max_div = max_cell_divergence(mac);
     speed = mac.max_face_speed();
     if (max_div <= m_settings.tolerance * speed) break;
   }
-  m_scaled = total;
+  std::swap(m_scaled, total);
   stats.max_relative_divergence = speed > 0.0 ? max_div / speed : 0.0;
   const double to_pressure = m_grid.dx() / dt;
   auto& p = mac.pressure();
-  for (size_t i = 0; i < p.size(); ++i) p[i] = m_scaled[i] * to_pressure;
+  const std::int64_t cells = static_cast<std::int64_t>(p.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t i = 0; i < cells; ++i) p[i] = m_scaled[i] * to_pressure;
   m_surface = nullptr;
   return stats;
 }
@@ -384,8 +389,8 @@ void PressureProjection::apply_pressure(MacGrid& mac) const {
   }
 }
 
-double PressureProjection::max_cell_divergence(const MacGrid& mac) const {
-  Eigen::VectorXd flux;
+double PressureProjection::max_cell_divergence(const MacGrid& mac) {
+  Eigen::VectorXd& flux = m_flux;
   cell_fluxes(mac, flux);
   for (int r = 0; r < m_regions.count(); ++r)  // a source sets these cells' divergence
     if (m_regions.sealed[r] != 0) flux[m_regions.cells[m_regions.start[r]]] = 0.0;

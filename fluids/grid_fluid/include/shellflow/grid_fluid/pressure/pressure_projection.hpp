@@ -139,8 +139,8 @@ class PressureProjection {
   bool air(std::int64_t cell) const { return m_surface != nullptr && m_regions.region[cell] < 0; }
   /// flux[c] = Σ over the six faces of cell c of u·n (= ∇·u Δx) [m/s].
   void cell_fluxes(const MacGrid& mac, Eigen::VectorXd& flux) const;
-  /// max over cells |Σ u·n|.
-  double max_cell_divergence(const MacGrid& mac) const;
+  /// max over cells |Σ u·n| (in m_flux's storage).
+  double max_cell_divergence(const MacGrid& mac);
   /// Neighbour of cell `c` across its face (axis, side): the cell, or -1 outside.
   std::int64_t neighbour(const Eigen::Vector3i& c, int axis, int side) const;
   /// Face flat index of cell `c`'s face (axis, side).
@@ -164,6 +164,7 @@ class PressureProjection {
   linear::MultigridPreconditioner m_multigrid;
   linear::PcgWorkspace m_pcg_work;         ///< CG's vectors, kept between solves
   Eigen::VectorXd m_flux, m_b, m_x;        ///< solve()'s, likewise
+  std::vector<double> m_total;             ///< project()'s sum over refinement passes
   linear::SparseMatrix m_matrix;           ///< CSR form for MIC(0) and CHOLMOD
   const FreeSurface* m_surface = nullptr;  ///< during project() of a water scene
   std::vector<std::uint8_t> m_liquid;      ///< per cell, water scenes only
