@@ -19,6 +19,22 @@ namespace {
 
 using grid::Location;
 
+/// A plate 10 m away, which no ray meets, and a shell band over the whole grid: every
+/// node and face takes the per-node (per-face) path, where every face (node) is seen.
+struct FarShell {
+  explicit FarShell(const grid::UniformGrid& grid)
+      : plates{test::make_plate({10.0, 10.0, 10.0}, Eigen::Vector3d::UnitY(), 0.5, 3)},
+        shells(plates, 1e-6),
+        band(grid) {
+    const geometry::Aabb everything(grid.origin() - Eigen::Vector3d::Ones(),
+                                    grid.upper() + Eigen::Vector3d::Ones());
+    band.add_boxes(std::span<const geometry::Aabb>(&everything, 1), 0.0);
+  }
+  std::vector<sdk::ShellSurface> plates;
+  ShellGeometry shells;
+  geometry::ShellBand band;
+};
+
 class RowsAgainstNodes : public testing::TestWithParam<Eigen::Vector3i> {};
 
 TEST_P(RowsAgainstNodes, EveryNodeTakesTheMeanOfTheFacesAboutIt) {
@@ -39,18 +55,10 @@ TEST_P(RowsAgainstNodes, EveryNodeTakesTheMeanOfTheFacesAboutIt) {
   NodeFields rows(grid, 300.0, false), per_node(grid, 300.0, false);
   transfer.faces_to_nodes(mac, rows, ShellGeometry(), nullptr);
 
-  // A plate 10 m away: no ray meets it, but a band over the whole grid sends every node
-  // down the per-node path.
-  const std::vector<sdk::ShellSurface> far{
-      test::make_plate({10.0, 10.0, 10.0}, Eigen::Vector3d::UnitY(), 0.5, 3)};
-  const ShellGeometry shells(far, 1e-6);
-  geometry::ShellBand band(grid);
-  const geometry::Aabb everything(grid.origin() - Eigen::Vector3d::Ones(),
-                                  grid.upper() + Eigen::Vector3d::Ones());
-  band.add_boxes(std::span<const geometry::Aabb>(&everything, 1), 0.0);
-  ASSERT_EQ(static_cast<std::int64_t>(band.samples(Location::Node).size()),
+  const FarShell far(grid);
+  ASSERT_EQ(static_cast<std::int64_t>(far.band.samples(Location::Node).size()),
             grid.size(Location::Node));
-  transfer.faces_to_nodes(mac, per_node, shells, &band);
+  transfer.faces_to_nodes(mac, per_node, far.shells, &far.band);
 
   for (int a = 0; a < 3; ++a)
     for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
@@ -93,15 +101,10 @@ TEST_P(RowsAgainstNodes, EveryFaceTakesTheMeanIncrementOfItsNodes) {
   MacGrid rows = start;
   transfer.increments_to_faces(rows, u_star, u_n, {}, no_faces, ShellGeometry(), nullptr,
                                boundary);
-  const std::vector<sdk::ShellSurface> far{
-      test::make_plate({10.0, 10.0, 10.0}, Eigen::Vector3d::UnitY(), 0.5, 3)};
-  const ShellGeometry shells(far, 1e-6);
-  geometry::ShellBand band(grid);
-  const geometry::Aabb everything(grid.origin() - Eigen::Vector3d::Ones(),
-                                  grid.upper() + Eigen::Vector3d::Ones());
-  band.add_boxes(std::span<const geometry::Aabb>(&everything, 1), 0.0);
+  const FarShell far(grid);
   MacGrid per_face = start;
-  transfer.increments_to_faces(per_face, u_star, u_n, {}, no_faces, shells, &band, boundary);
+  transfer.increments_to_faces(per_face, u_star, u_n, {}, no_faces, far.shells, &far.band,
+                               boundary);
   int changed = 0;
   for (int a = 0; a < 3; ++a)
     for (size_t f = 0; f < start.face_velocity(a).size(); ++f) {
