@@ -50,45 +50,64 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
                              const ShellGeometry& shells, const geometry::ShellBand* band,
                              std::span<double> out, double* range,
                              std::vector<std::int64_t>& invalid) const {
-  const std::int64_t count = m_grid.size(Location::Node);
   const std::span<const std::uint8_t> in_band =
       band && !shells.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
   const Eigen::Vector3d lower = m_grid.origin();
   const Eigen::Vector3d upper = m_grid.upper();
   const double eps_prime = geometry::WedgeCaster::kSemiLagrangianFactor * shells.epsilon();
+  const Eigen::Vector3i cells = m_grid.cells();
+  const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
+  const std::int64_t sy = nodes.x(), sz = std::int64_t(nodes.x()) * nodes.y();
+  const std::int64_t corner_offset[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
   std::vector<std::vector<std::int64_t>> per_thread(omp_get_max_threads());
+  // Row by row (no index arithmetic per corner); the arithmetic of node_stencil and
+  // NodeStencil::weight, in their order, so the values are those of the per-node loop.
 #pragma omp parallel
   {
     std::vector<std::int64_t>& mine = per_thread[omp_get_thread_num()];
-#pragma omp for schedule(dynamic, 1024)
-    for (std::int64_t node = 0; node < count; ++node) {
-      const Eigen::Vector3d x = m_grid.position(Location::Node, node);
-      const Eigen::Vector3d departure =
-          (x - dt * velocity.velocity_at(node)).cwiseMax(lower).cwiseMin(upper);
-      double* node_range = range ? range + 2 * node : nullptr;
-      if (in_band.empty() || in_band[node] == 0) {
-        const NodeStencil st = node_stencil(m_grid, departure);
-        double v = 0.0, lo = kInf, hi = -kInf;
-        for (int c = 0; c < 8; ++c) {
-          const double value = in[st.corner(m_grid, c)];
-          v += st.weight(c) * value;
-          lo = std::min(lo, value);
-          hi = std::max(hi, value);
+#pragma omp for collapse(2) schedule(static)
+    for (int k = 0; k < nodes.z(); ++k)
+      for (int j = 0; j < nodes.y(); ++j)
+        for (int i = 0; i < nodes.x(); ++i) {
+          const std::int64_t node = i + sy * j + sz * k;
+          const Eigen::Vector3d x = m_grid.position(Location::Node, Eigen::Vector3i(i, j, k));
+          const Eigen::Vector3d departure =
+              (x - dt * velocity.velocity_at(node)).cwiseMax(lower).cwiseMin(upper);
+          double* node_range = range ? range + 2 * node : nullptr;
+          if (in_band.empty() || in_band[node] == 0) {
+            std::int64_t base = 0;
+            double f[3];
+            for (int a = 0; a < 3; ++a) {
+              const double q = std::clamp((departure[a] - lower[a]) / m_grid.dx(), 0.0,
+                                          static_cast<double>(cells[a]));
+              const int cell = std::min(static_cast<int>(std::floor(q)), cells[a] - 1);
+              f[a] = q - cell;
+              base += cell * (a == 0 ? 1 : a == 1 ? sy : sz);
+            }
+            double v = 0.0, lo = kInf, hi = -kInf;
+            for (int c = 0; c < 8; ++c) {
+              const double value = in[base + corner_offset[c]];
+              const double w = ((c & 1) ? f[0] : 1.0 - f[0]) *
+                               (((c >> 1) & 1) ? f[1] : 1.0 - f[1]) *
+                               (((c >> 2) & 1) ? f[2] : 1.0 - f[2]);
+              v += w * value;
+              lo = std::min(lo, value);
+              hi = std::max(hi, value);
+            }
+            out[node] = v;
+            if (node_range) node_range[0] = lo, node_range[1] = hi;
+            continue;
+          }
+          // §4.1 clipped ray, then one secondary ray per cell node (§4.4.1).
+          const std::optional<double> v =
+              sample_visible(in, shells.clip(x, departure, eps_prime), shells, node_range);
+          if (!v) {
+            out[node] = in[node];
+            mine.push_back(node);
+            continue;
+          }
+          out[node] = *v;
         }
-        out[node] = v;
-        if (node_range) node_range[0] = lo, node_range[1] = hi;
-        continue;
-      }
-      // §4.1 clipped ray, then one secondary ray per cell node (§4.4.1).
-      const std::optional<double> v =
-          sample_visible(in, shells.clip(x, departure, eps_prime), shells, node_range);
-      if (!v) {
-        out[node] = in[node];
-        mine.push_back(node);
-        continue;
-      }
-      out[node] = *v;
-    }
   }
   for (const auto& list : per_thread) invalid.insert(invalid.end(), list.begin(), list.end());
 }
