@@ -1,10 +1,10 @@
 #include "shellflow/linear/grid_laplacian.hpp"
 
-#include <cstring>
 #include <string>
 
 #include "cell_stencil.hpp"
 #include "parallel_threshold.hpp"
+#include "shellflow/grid/fingerprint.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::linear {
@@ -140,38 +140,9 @@ SparseMatrix GridLaplacian::to_sparse() const {
 }
 
 std::uint64_t GridLaplacian::fingerprint() const {
-  // FNV-1a over 64-bit words in 64 fixed chunks per array, each chunk finished with
-  // splitmix64's mixer, the chunks combined in order: the same value on any number of
-  // threads.
-  constexpr std::uint64_t kPrime = 0x100000001b3ULL;
-  const auto finish = [](std::uint64_t z) {
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
-  };
-  std::uint64_t h = 0xcbf29ce484222325ULL;
-  const auto add = [&](std::uint64_t word) { h = finish((h ^ word) * kPrime); };
-  for (int a = 0; a < 3; ++a) add(static_cast<std::uint64_t>(m_cells[a]));
-  const auto add_array = [&](const std::vector<double>& v) {
-    constexpr int kChunks = 64;
-    std::array<std::uint64_t, kChunks> chunk{};
-    const std::int64_t n = static_cast<std::int64_t>(v.size());
-#pragma omp parallel for schedule(static)
-    for (int c = 0; c < kChunks; ++c) {
-      std::uint64_t g = 0xcbf29ce484222325ULL;
-      for (std::int64_t i = n * c / kChunks; i < n * (c + 1) / kChunks; ++i) {
-        std::uint64_t word;
-        std::memcpy(&word, &v[i], sizeof word);
-        g = (g ^ word) * kPrime;
-      }
-      chunk[c] = finish(g);
-    }
-    add(static_cast<std::uint64_t>(n));
-    for (const std::uint64_t c : chunk) add(c);
-  };
-  for (int a = 0; a < 3; ++a) add_array(m_weight[a]);
-  add_array(m_dirichlet);
-  return h;
+  std::uint64_t h = grid::fingerprint_of(std::span<const int>(m_cells.data(), 3));
+  for (int a = 0; a < 3; ++a) h = grid::fingerprint_of(std::span<const double>(m_weight[a]), h);
+  return grid::fingerprint_of(std::span<const double>(m_dirichlet), h);
 }
 
 }  // namespace shellflow::linear

@@ -185,5 +185,47 @@ TEST(PressureProjection, EnclosedPocketIsCompatibilityCorrectedAndSolved) {
   }
 }
 
+TEST(PressureProjection, RegionsFollowTheShellsStepAfterStep) {
+  // A smoke projection keeps its fluid regions while the closed faces stay the same (the
+  // labelling is skipped), and labels them again as soon as a shell comes, goes or moves:
+  // no shell (one region), a closed box standing still for two steps (the pocket and the
+  // outside), no shell again, the box a cell over. Each solve must leave the velocity
+  // divergence-free to the tolerance.
+  const double tol = 1e-8;
+  auto fluid = test::make_fluid({{"resolution", 16}, {"pressure", {{"tolerance", tol}}}});
+  const auto box_at = [](const Eigen::Vector3d& centre) {
+    auto box = geometry::make_box(Eigen::Vector3d(0.4, 0.4, 0.4), 2);
+    sdk::ShellSurface s;
+    s.positions = box.positions;
+    s.positions.rowwise() += centre.transpose();
+    s.triangles = std::make_shared<const sdk::Triangles>(box.triangles);
+    s.velocities = sdk::Positions::Zero(s.positions.rows(), 3);
+    return s;
+  };
+  const std::vector<sdk::ShellSurface> none;
+  const std::vector<sdk::ShellSurface> here{box_at({0.5013, 0.4987, 0.5021})};
+  const std::vector<sdk::ShellSurface> moved{box_at({0.5013 + 1.0 / 16, 0.4987, 0.5021})};
+  int step = 0;
+  const auto project = [&](const std::vector<sdk::ShellSurface>& shells) {
+    set_faces(*fluid, [&](const Eigen::Vector3d& p) {
+      return Eigen::Vector3d(std::sin(5 * p.y() + step), p.x() * p.z(), std::cos(4 * p.x()));
+    });
+    ++step;
+    std::vector<sdk::Positions> v_eff;
+    for (const auto& s : shells) v_eff.push_back(s.velocities);
+    fluid->project(0.01, shells, v_eff);
+    const auto& stats = fluid->last_step().projection;
+    EXPECT_TRUE(stats.converged) << "step " << step;
+    EXPECT_LE(stats.max_relative_divergence, tol) << "step " << step;
+    return stats.regions;
+  };
+  EXPECT_EQ(project(none), 1);
+  EXPECT_EQ(project(here), 2);
+  EXPECT_EQ(project(here), 2);
+  EXPECT_EQ(project(none), 1);
+  EXPECT_EQ(project(moved), 2);
+  EXPECT_EQ(project(here), 2);
+}
+
 }  // namespace
 }  // namespace shellflow::grid_fluid

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "shellflow/grid/fingerprint.hpp"
 #include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
 #include "shellflow/linear/cholmod_solver.hpp"
 #include "shellflow/linear/pcg_mic0_solver.hpp"
@@ -283,10 +284,26 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
   }
   apply_boundary_velocities(mac, boundary);
   mark_neumann(mac, boundary, shells, band, stats);
-  label_fluid_regions(m_grid, m_neumann, boundary, m_regions,
-                      stats.shell_neumann_faces > 0 || boundary.has_source_faces(),
-                      surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
-                                         : std::span<const std::uint8_t>());
+  const bool interior_closed = stats.shell_neumann_faces > 0 || boundary.has_source_faces();
+  // The regions follow from the closed faces, the open sides and the liquid cells alone:
+  // without water and with the same closed faces as the last step (a smoke scene whose
+  // shells stand still) they are the same, and the labelling is kept.
+  std::uint64_t key = 0;
+  if (surface == nullptr) {
+    std::uint64_t sides = interior_closed ? 1 : 0;
+    for (int a = 0; a < 3; ++a)
+      for (int side = 0; side < 2; ++side)
+        sides = 2 * sides + (boundary.side(a, side).type == BoundaryType::Open ? 1 : 0);
+    key = grid::fingerprint_of(std::span<const std::uint64_t>(&sides, 1));
+    for (int a = 0; a < 3; ++a)
+      key = grid::fingerprint_of(std::span<const std::uint8_t>(m_neumann[a]), key);
+  }
+  if (surface != nullptr || !m_regions_kept || key != m_regions_key)
+    label_fluid_regions(m_grid, m_neumann, boundary, m_regions, interior_closed,
+                        surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
+                                           : std::span<const std::uint8_t>());
+  m_regions_kept = surface == nullptr;
+  m_regions_key = key;
   const int regions = static_cast<int>(m_regions.enclosed.size());
   stats.regions = regions;
   for (const auto e : m_regions.enclosed) stats.enclosed_regions += e;
