@@ -135,13 +135,10 @@ double tetrahedron_water_fraction(const std::array<double, 4>& phi) {
 constexpr std::array<std::array<int, 4>, 6> kCubeTetrahedra = {
     {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}}};
 
-}  // namespace
-
-namespace {
-
 /// The water fraction of the cell whose corner 0 is node `base` (corner c at base +
 /// offset[c]).
-double cell_fraction(const double* phi, std::int64_t base, const std::int64_t (&offset)[8]) {
+double cell_fraction(const double* phi, std::int64_t base,
+                     const std::array<std::int64_t, 8>& offset) {
   std::array<double, 8> corner;
   bool any_wet = false, any_dry = false;
   for (int c = 0; c < 8; ++c) {
@@ -158,13 +155,6 @@ double cell_fraction(const double* phi, std::int64_t base, const std::int64_t (&
 
 }  // namespace
 
-double LevelSet::cell_water_fraction(int i, int j, int k) const {
-  const Eigen::Vector3i n = m_grid.counts(Location::Node);
-  const std::int64_t sy = n.x(), sz = std::int64_t(n.x()) * n.y();
-  const std::int64_t offset[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
-  return cell_fraction(m_phi.data(), m_grid.index(Location::Node, i, j, k), offset);
-}
-
 double LevelSet::volume() const {
   const Eigen::Vector3i n = m_grid.cells();
   return volume({Eigen::Vector3i::Zero(), n - Eigen::Vector3i::Ones()});
@@ -172,9 +162,7 @@ double LevelSet::volume() const {
 
 double LevelSet::volume(const grid::IndexBox& cells) const {
   if (cells.empty()) return 0.0;
-  const Eigen::Vector3i n = m_grid.counts(Location::Node);
-  const std::int64_t sy = n.x(), sz = std::int64_t(n.x()) * n.y();
-  const std::int64_t offset[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
+  const std::array<std::int64_t, 8> offset = node_corner_offsets(m_grid);
   const int rows_y = cells.hi.y() - cells.lo.y() + 1;
   const std::int64_t rows = std::int64_t(rows_y) * (cells.hi.z() - cells.lo.z() + 1);
   // One term per row of cells along x, each summed in order: the same bits on any

@@ -55,13 +55,11 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
   const Eigen::Vector3d lower = m_grid.origin();
   const Eigen::Vector3d upper = m_grid.upper();
   const double eps_prime = geometry::WedgeCaster::kSemiLagrangianFactor * shells.epsilon();
-  const Eigen::Vector3i cells = m_grid.cells();
   const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
   const std::int64_t sy = nodes.x(), sz = std::int64_t(nodes.x()) * nodes.y();
-  const std::int64_t corner_offset[8] = {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
+  const std::array<std::int64_t, 8> corner_offset = node_corner_offsets(m_grid);
   std::vector<std::vector<std::int64_t>> per_thread(omp_get_max_threads());
-  // Row by row (no index arithmetic per corner); the arithmetic of node_stencil and
-  // NodeStencil::weight, in their order, so the values are those of the per-node loop.
+  // Row by row, the corners by offsets (no index arithmetic per corner).
 #pragma omp parallel
   {
     std::vector<std::int64_t>& mine = per_thread[omp_get_thread_num()];
@@ -75,22 +73,12 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
               (x - dt * velocity.velocity_at(node)).cwiseMax(lower).cwiseMin(upper);
           double* node_range = range ? range + 2 * node : nullptr;
           if (in_band.empty() || in_band[node] == 0) {
-            std::int64_t base = 0;
-            double f[3];
-            for (int a = 0; a < 3; ++a) {
-              const double q = std::clamp((departure[a] - lower[a]) / m_grid.dx(), 0.0,
-                                          static_cast<double>(cells[a]));
-              const int cell = std::min(static_cast<int>(std::floor(q)), cells[a] - 1);
-              f[a] = q - cell;
-              base += cell * (a == 0 ? 1 : a == 1 ? sy : sz);
-            }
+            const NodeStencil st = node_stencil(m_grid, departure);
+            const std::int64_t first = st.base.x() + sy * st.base.y() + sz * st.base.z();
             double v = 0.0, lo = kInf, hi = -kInf;
             for (int c = 0; c < 8; ++c) {
-              const double value = in[base + corner_offset[c]];
-              const double w = ((c & 1) ? f[0] : 1.0 - f[0]) *
-                               (((c >> 1) & 1) ? f[1] : 1.0 - f[1]) *
-                               (((c >> 2) & 1) ? f[2] : 1.0 - f[2]);
-              v += w * value;
+              const double value = in[first + corner_offset[c]];
+              v += st.weight(c) * value;
               lo = std::min(lo, value);
               hi = std::max(hi, value);
             }

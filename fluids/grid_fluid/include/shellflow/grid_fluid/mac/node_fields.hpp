@@ -4,7 +4,9 @@
 // by UniformGrid::index(Location::Node, ...), plus trilinear sampling.
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <array>
+#include <cstdint>
 #include <vector>
 
 #include "shellflow/grid/uniform_grid.hpp"
@@ -58,7 +60,7 @@ class NodeFields {
   std::vector<double> m_temperature;
 };
 
-/// The cell of the node lattice holding world point p (clamped into the grid), and the
+/// The cell of the node lattice holding a point (clamped into the grid), and the
 /// trilinear weights' fractions inside it.
 struct NodeStencil {
   Eigen::Vector3i base;      ///< lower corner node
@@ -74,6 +76,28 @@ struct NodeStencil {
            (((c >> 2) & 1) ? fraction.z() : 1.0 - fraction.z());
   }
 };
-NodeStencil node_stencil(const grid::UniformGrid& grid, const Eigen::Vector3d& p);
+/// The stencil of point q given in cells from the grid's origin, q = (p − origin)/Δx: a
+/// point on the grid's upper face lies in the last cell at fraction 1.
+inline NodeStencil node_stencil_in_cells(const Eigen::Vector3i& cells, const Eigen::Vector3d& q) {
+  NodeStencil s;
+  for (int a = 0; a < 3; ++a) {
+    const double x = std::clamp(q[a], 0.0, static_cast<double>(cells[a]));
+    const int i = std::min(static_cast<int>(x), cells[a] - 1);  // x >= 0: truncation floors
+    s.base[a] = i;
+    s.fraction[a] = x - i;
+  }
+  return s;
+}
+/// The stencil of world point p.
+inline NodeStencil node_stencil(const grid::UniformGrid& grid, const Eigen::Vector3d& p) {
+  return node_stencil_in_cells(grid.cells(), (p - grid.origin()) / grid.dx());
+}
+/// Flat offsets of a cell's 8 corner nodes from its corner 0, in NodeStencil's corner
+/// order: a row loop's corners without index arithmetic per corner.
+inline std::array<std::int64_t, 8> node_corner_offsets(const grid::UniformGrid& grid) {
+  const Eigen::Vector3i n = grid.counts(grid::Location::Node);
+  const std::int64_t sy = n.x(), sz = std::int64_t(n.x()) * n.y();
+  return {0, 1, sy, sy + 1, sz, sz + 1, sz + sy, sz + sy + 1};
+}
 
 }  // namespace shellflow::grid_fluid

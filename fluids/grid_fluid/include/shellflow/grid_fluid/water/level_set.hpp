@@ -43,8 +43,6 @@ class LevelSet {
   double volume() const;
   /// The same over the cells of `cells` (possibly empty: 0).
   double volume(const grid::IndexBox& cells) const;
-  /// The water fraction of cell (i, j, k), in [0, 1], as volume() counts it.
-  double cell_water_fraction(int i, int j, int k) const;
   /// The volume where this water and `other` (φ of the same grid) differ [m^3]:
   /// Σ over nodes of |H(−φ) − H(−φ_other)| Δx^3 with the smeared Heaviside of width
   /// 1.5Δx (Osher and Fedkiw 2002, eq. 7.1), 1/2 per domain face a node lies on. A shape
