@@ -109,47 +109,42 @@ void FaceNodeTransfer::faces_to_nodes(const MacGrid& mac, NodeFields& nodes,
 void FaceNodeTransfer::faces_to_nodes_with_rays(const MacGrid& mac, NodeFields& nodes,
                                                 const ShellGeometry& shells,
                                                 std::int64_t node) const {
-  {
-    const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, node);
-    const bool rays = true;
-    const Eigen::Vector3d x = rays ? m_grid.position(Location::Node, ijk) : Eigen::Vector3d();
-    for (int a = 0; a < 3; ++a) {
-      const Location loc = face_location(a);
-      const int b = (a + 1) % 3;
-      const int c = (a + 2) % 3;
-      const auto& u = mac.face_velocity(a);
-      double sum = 0.0;
-      int terms = 0;
-      Eigen::Vector3d object_sum = Eigen::Vector3d::Zero();
-      int object_terms = 0;
-      // The faces of family a around node ijk: (i_a, i_b - {1,0}, i_c - {1,0}).
-      for (int db = -1; db <= 0; ++db) {
-        for (int dc = -1; dc <= 0; ++dc) {
-          Eigen::Vector3i f = ijk;
-          f[b] += db;
-          f[c] += dc;
-          if (f[b] < 0 || f[c] < 0 || f[b] >= m_grid.cells()[b] || f[c] >= m_grid.cells()[c])
-            continue;
-          if (rays) {
-            const Eigen::Vector3d y = m_grid.position(loc, f);
-            if (!shells.visible(x, y)) {
-              object_sum += shells.object_velocity(x, y);
-              ++object_terms;
-              continue;
-            }
-          }
-          sum += u[m_grid.index(loc, f)];
-          ++terms;
+  const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, node);
+  const Eigen::Vector3d x = m_grid.position(Location::Node, ijk);
+  for (int a = 0; a < 3; ++a) {
+    const Location loc = face_location(a);
+    const int b = (a + 1) % 3;
+    const int c = (a + 2) % 3;
+    const auto& u = mac.face_velocity(a);
+    double sum = 0.0;
+    int terms = 0;
+    Eigen::Vector3d object_sum = Eigen::Vector3d::Zero();
+    int object_terms = 0;
+    // The faces of family a around node ijk: (i_a, i_b - {1,0}, i_c - {1,0}).
+    for (int db = -1; db <= 0; ++db) {
+      for (int dc = -1; dc <= 0; ++dc) {
+        Eigen::Vector3i f = ijk;
+        f[b] += db;
+        f[c] += dc;
+        if (f[b] < 0 || f[c] < 0 || f[b] >= m_grid.cells()[b] || f[c] >= m_grid.cells()[c])
+          continue;
+        const Eigen::Vector3d y = m_grid.position(loc, f);
+        if (!shells.visible(x, y)) {
+          object_sum += shells.object_velocity(x, y);
+          ++object_terms;
+          continue;
         }
+        sum += u[m_grid.index(loc, f)];
+        ++terms;
       }
-      double value = 0.0;
-      if (terms > 0) {
-        value = sum / terms;
-      } else if (object_terms > 0) {
-        value = object_sum[a] / object_terms;  // §4.2: no visible face
-      }
-      nodes.velocity(a)[node] = value;
     }
+    double value = 0.0;
+    if (terms > 0) {
+      value = sum / terms;
+    } else if (object_terms > 0) {
+      value = object_sum[a] / object_terms;  // §4.2: no visible face
+    }
+    nodes.velocity(a)[node] = value;
   }
 }
 
@@ -220,13 +215,6 @@ void FaceNodeTransfer::increments_to_faces(
       for (int m = 0; m < 4; ++m) corner[m] = first + corner_offset[m];
       const bool rays = !in_band.empty() && in_band[face] != 0;
       const bool near_source = held.faces.contains(ijk);
-      if (!rays && !near_source) {
-        // Fast path away from shells: the plain average of the four increments.
-        double du = 0.0;
-        for (const std::int64_t v : corner) du += us[v] - un[v];
-        u[face] += 0.25 * du;
-        return;
-      }
       const auto held_node = [&](std::int64_t v) { return near_source && held.flag[v] != 0; };
       if (!rays) {
         double du = 0.0;
@@ -276,8 +264,7 @@ void FaceNodeTransfer::increments_to_faces(
         // A row with no face in the shell band or next to a held source face, and no
         // fixed face but possibly its ends along x: the plain average of the four
         // increments, summed in face_update's order, over contiguous arrays.
-        bool plain =
-            !held.faces.contains(Eigen::Vector3i(held.faces.lo.x(), j, k)) || held.faces.empty();
+        bool plain = !held.faces.contains(Eigen::Vector3i(held.faces.lo.x(), j, k));
         if (plain && !in_band.empty())
           plain = std::none_of(in_band.begin() + row, in_band.begin() + row + n.x(),
                                [](std::uint8_t f) { return f != 0; });

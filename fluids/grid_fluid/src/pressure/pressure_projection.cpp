@@ -225,8 +225,6 @@ void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats
   const int n = m_laplacian.size();
   Eigen::VectorXd& flux = m_flux;
   cell_fluxes(mac, flux);
-  for (int r = 0; r < m_regions.count(); ++r)  // a source sets these cells' divergence
-    if (m_regions.sealed[r] != 0) flux[m_regions.cells[m_regions.start[r]]] = 0.0;
   Eigen::VectorXd &b = m_b, &x = m_x;
   b.resize(n);
   x.resize(n);
@@ -288,16 +286,13 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
   // The regions follow from the closed faces, the open sides and the liquid cells alone:
   // without water and with the same closed faces as the last step (a smoke scene whose
   // shells stand still) they are the same, and the labelling is kept.
-  std::uint64_t key = 0;
-  if (surface == nullptr) {
-    std::uint64_t sides = interior_closed ? 1 : 0;
-    for (int a = 0; a < 3; ++a)
-      for (int side = 0; side < 2; ++side)
-        sides = 2 * sides + (boundary.side(a, side).type == BoundaryType::Open ? 1 : 0);
-    key = grid::fingerprint_of(std::span<const std::uint64_t>(&sides, 1));
+  std::uint64_t key = interior_closed ? 1 : 0;  // then one bit per open side
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side)
+      key = 2 * key + (boundary.side(a, side).type == BoundaryType::Open ? 1 : 0);
+  if (surface == nullptr)
     for (int a = 0; a < 3; ++a)
       key = grid::fingerprint_of(std::span<const std::uint8_t>(m_neumann[a]), key);
-  }
   if (surface != nullptr || !m_regions_kept || key != m_regions_key)
     label_fluid_regions(m_grid, m_neumann, boundary, m_regions, interior_closed,
                         surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
@@ -361,6 +356,8 @@ void PressureProjection::cell_fluxes(const MacGrid& mac, Eigen::VectorXd& flux) 
       for (std::int64_t i = 0; i < nx; ++i)
         out[c + i] = (ux[i + 1] - ux[i]) + (vy[i + nx] - vy[i]) + (wz[i + plane] - wz[i]);
     }
+  for (int r = 0; r < m_regions.count(); ++r)  // a source sets these cells' divergence
+    if (m_regions.sealed[r] != 0) out[m_regions.cells[m_regions.start[r]]] = 0.0;
 }
 
 void PressureProjection::apply_pressure(MacGrid& mac) const {
@@ -409,8 +406,6 @@ void PressureProjection::apply_pressure(MacGrid& mac) const {
 double PressureProjection::max_cell_divergence(const MacGrid& mac) {
   Eigen::VectorXd& flux = m_flux;
   cell_fluxes(mac, flux);
-  for (int r = 0; r < m_regions.count(); ++r)  // a source sets these cells' divergence
-    if (m_regions.sealed[r] != 0) flux[m_regions.cells[m_regions.start[r]]] = 0.0;
   if (m_surface != nullptr)
     for (Eigen::Index c = 0; c < flux.size(); ++c)
       if (air(c)) flux[c] = 0.0;  // air is not constrained

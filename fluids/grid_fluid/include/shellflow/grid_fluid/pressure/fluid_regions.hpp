@@ -34,8 +34,8 @@ struct FluidRegions {
   int enclosed_count() const;
   /// The constants of the enclosed regions that are not sealed (numbered in region
   /// order): the null space of the pressure operator. A sealed cell's row is zero, so its
-  /// right-hand side must be zero: the caller sets it so. Empty when every region is open. Unknown u is cell
-  /// `unknowns[u]` (empty: unknown u is cell u).
+  /// right-hand side must be zero: the caller sets it so. Empty when every such region is
+  /// open. Unknown u is cell `unknowns[u]` (empty: unknown u is cell u).
   linear::ConstantNullSpace null_space(std::span<const std::int64_t> unknowns = {}) const;
 };
 

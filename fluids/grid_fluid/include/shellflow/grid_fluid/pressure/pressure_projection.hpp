@@ -137,7 +137,8 @@ class PressureProjection {
   /// 1/θ of the face between liquid cell `liquid` and air cell `air` (FreeSurface).
   double inverse_theta(std::int64_t liquid, std::int64_t air) const;
   bool air(std::int64_t cell) const { return m_surface != nullptr && m_regions.region[cell] < 0; }
-  /// flux[c] = Σ over the six faces of cell c of u·n (= ∇·u Δx) [m/s].
+  /// flux[c] = Σ over the six faces of cell c of u·n (= ∇·u Δx) [m/s]; 0 in a sealed
+  /// cell, whose divergence a source sets (m_regions of this projection).
   void cell_fluxes(const MacGrid& mac, Eigen::VectorXd& flux) const;
   /// max over cells |Σ u·n| (in m_flux's storage).
   double max_cell_divergence(const MacGrid& mac);
