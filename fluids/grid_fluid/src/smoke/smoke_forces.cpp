@@ -50,8 +50,7 @@ double SmokeForces::add_vorticity_confinement(NodeFields& fields, double dt, dou
     }
   }
   const std::uint8_t* mask = rays ? m_visible_mask.data() : nullptr;
-  const double* u[3] = {fields.velocity(0).data(), fields.velocity(1).data(),
-                        fields.velocity(2).data()};
+  double* u[3] = {fields.velocity(0).data(), fields.velocity(1).data(), fields.velocity(2).data()};
   const double inv_2dx = 1.0 / (2.0 * dx);
   // ω = ∇ × u with hidden neighbours replaced by the object velocity (§4.1), row by row;
   // nodes that see all six neighbours (all of them without shells) take the plain
@@ -96,8 +95,6 @@ double SmokeForces::add_vorticity_confinement(NodeFields& fields, double dt, dou
   // N = ∇|ω| / |∇|ω|| (hidden neighbours replaced by the centre value; the differences'
   // 1/(2Δx) cancels in N); f = ε Δx N × ω.
   double largest_squared = 0.0;
-  double* out[3] = {fields.velocity(0).data(), fields.velocity(1).data(),
-                    fields.velocity(2).data()};
   const double scale = strength * dx;
 #pragma omp parallel for collapse(2) schedule(static) reduction(max : largest_squared)
   for (int k = 1; k < n.z() - 1; ++k)
@@ -117,14 +114,13 @@ double SmokeForces::add_vorticity_confinement(NodeFields& fields, double dt, dou
         const double fx = s * (gy * omega[2][i] - gz * omega[1][i]);
         const double fy = s * (gz * omega[0][i] - gx * omega[2][i]);
         const double fz = s * (gx * omega[1][i] - gy * omega[0][i]);
-        out[0][i] += dt * fx;
-        out[1][i] += dt * fy;
-        out[2][i] += dt * fz;
+        u[0][i] += dt * fx;
+        u[1][i] += dt * fy;
+        u[2][i] += dt * fz;
         largest_squared = std::max(largest_squared, fx * fx + fy * fy + fz * fz);
       }
     }
-  const double fmax = std::sqrt(largest_squared);
-  return fmax;
+  return std::sqrt(largest_squared);
 }
 
 }  // namespace shellflow::grid_fluid
