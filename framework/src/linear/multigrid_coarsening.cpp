@@ -652,4 +652,56 @@ void coarsen_level(Level& fine, Level& coarse) {
       fine.restriction_correction);
 }
 
+void find_near_shell(Level& level, int reach) {
+  const LevelGraph g(level);
+  const Eigen::Vector3i n = g.n;
+  std::vector<std::uint8_t> seed(g.cells, 0);
+  bool any = level.extras > 0;
+  for (int e = 0; e < level.extras; ++e) seed[level.extra_cell[e]] = 1;
+#pragma omp parallel for schedule(static) reduction(|| : any) if (g.cells >= kParallelThreshold)
+  for (int z = 0; z < n.z(); ++z)
+    for (int y = 0; y < n.y(); ++y)
+      for (int x = 0; x < n.x(); ++x) {
+        const Eigen::Vector3i c(x, y, z);
+        const int cell = g.cell(c);
+        if (!g.active(cell)) continue;
+        for (int a = 0; a < 3 && seed[cell] == 0; ++a)
+          for (int side = 0; side < 2; ++side) {
+            // The face between c and its neighbour along a (on side − or +).
+            Eigen::Vector3i nb = c, plus = c;
+            nb[a] += side == 0 ? -1 : 1;
+            plus[a] += side;
+            if (nb[a] < 0 || nb[a] >= n[a] || g.face(a, plus) != 0.0f || !g.active(g.cell(nb)))
+              continue;
+            seed[cell] = 1;
+            any = true;
+            break;
+          }
+      }
+  level.near_shell.clear();
+  if (!any) return;
+  // Dilate by `reach` cells (box distance), one axis at a time.
+  std::vector<std::uint8_t> next(g.cells);
+  for (int a = 0; a < 3; ++a)
+    for (int step = 0; step < reach; ++step) {
+      const int stride = a == 0 ? 1 : a == 1 ? n.x() : n.x() * n.y();
+#pragma omp parallel for schedule(static) if (g.cells >= kParallelThreshold)
+      for (int cell = 0; cell < g.cells; ++cell) {
+        const int along = g.coords(cell)[a];
+        std::uint8_t v = seed[cell];
+        if (along > 0) v |= seed[cell - stride];
+        if (along + 1 < n[a]) v |= seed[cell + stride];
+        next[cell] = v;
+      }
+      seed.swap(next);
+    }
+  for (int cell = 0; cell < g.cells; ++cell) {
+    if (seed[cell] == 0) continue;
+    if (g.active(cell)) level.near_shell.push_back(cell);
+    const auto [first, last] = g.extras_of(cell);
+    for (int u = first; u < last; ++u)
+      if (g.active(u)) level.near_shell.push_back(u);
+  }
+}
+
 }  // namespace shellflow::linear::detail

@@ -116,6 +116,36 @@ void half_sweep(const Level& level, int color) {
   for_extras(level, color, [&](int u) { x[u] = (b[u] + link_sum(level, u, x)) * inverse[u]; });
 }
 
+/// Gauss–Seidel over the unknowns near a shell, in list order (forward) or reversed
+/// (backward: the adjoint of the forward sweep, for the symmetric V-cycle).
+void near_shell_sweep(const Level& level, bool forward) {
+  const int count = static_cast<int>(level.near_shell.size());
+  if (count == 0) return;
+  const auto s = detail::stencil_of(level.cells);
+  const int cells = level.size();
+  float* x = level.x.data();
+  const float* b = level.b.data();
+  const float* inverse = level.inverse_diagonal.data();
+  with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
+    for (int t = 0; t < count; ++t) {
+      const int u = level.near_shell[forward ? t : count - 1 - t];
+      float sum = level.has_links() ? link_sum(level, u, x) : 0.0f;
+      if (u < cells) {
+        const int i = u % s.nx, j = (u / s.nx) % s.ny, k = u / (s.nx * s.ny);
+        const std::int64_t fx = s.face_x_row(j, k) + i, fy = s.face_y_row(j, k) + i,
+                           fz = s.face_z_row(j, k) + i;
+        if (i > 0) sum += float(wx[fx]) * x[u - 1];
+        if (i + 1 < s.nx) sum += float(wx[fx + 1]) * x[u + 1];
+        if (j > 0) sum += float(wy[fy]) * x[u - s.nx];
+        if (j + 1 < s.ny) sum += float(wy[fy + s.nx]) * x[u + s.nx];
+        if (k > 0) sum += float(wz[fz]) * x[u - s.plane()];
+        if (k + 1 < s.nz) sum += float(wz[fz + s.plane()]) * x[u + s.plane()];
+      }
+      x[u] = (b[u] + sum) * inverse[u];
+    }
+  });
+}
+
 /// The red half sweep from x = 0: x_u = b_u / A_uu on the red unknowns (black ones untouched).
 void first_red_sweep(const Level& level) {
   const Eigen::Vector3i n = level.cells;
@@ -271,6 +301,11 @@ MultigridPreconditioner::MultigridPreconditioner(MultigridSettings settings)
     throw Error("MultigridPreconditioner: smoothing_sweeps and coarsest_sweeps must be >= 1, got " +
                 std::to_string(settings.smoothing_sweeps) + " and " +
                 std::to_string(settings.coarsest_sweeps));
+  if (settings.near_shell_sweeps < 0 || settings.near_shell_reach < 0)
+    throw Error(
+        "MultigridPreconditioner: near_shell_sweeps and near_shell_reach must be >= 0, got " +
+        std::to_string(settings.near_shell_sweeps) + " and " +
+        std::to_string(settings.near_shell_reach));
 }
 
 void MultigridPreconditioner::compute(const GridLaplacian& A) {
@@ -322,6 +357,7 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
   fine.row_has_links.clear();
   detail::compute_inverse_diagonal(fine);
   for (size_t l = 1; l < m_levels.size(); ++l) detail::coarsen_level(m_levels[l - 1], m_levels[l]);
+  for (Level& level : m_levels) detail::find_near_shell(level, m_settings.near_shell_reach);
   m_levels.back().prolongation_correction.clear();
   m_levels.back().restriction_correction.clear();
   for (Level& level : m_levels) {
@@ -372,6 +408,7 @@ void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z
       half_sweep(level, 0);
       half_sweep(level, 1);
     }
+    for (int s = 0; s < m_settings.near_shell_sweeps; ++s) near_shell_sweep(level, true);
     level_residual(level);
     restrict_residual(level, m_levels[l + 1], children[l + 1]);
   }
@@ -389,6 +426,7 @@ void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z
   for (int l = levels - 2; l >= 0; --l) {
     const Level& level = m_levels[l];
     prolongate_add(m_levels[l + 1], level, parents[l + 1]);
+    for (int s = 0; s < m_settings.near_shell_sweeps; ++s) near_shell_sweep(level, false);
     for (int s = 0; s < nu; ++s) {
       half_sweep(level, 1);
       half_sweep(level, 0);

@@ -21,7 +21,7 @@
 namespace shellflow::linear {
 namespace {
 
-enum class Sheet { None, Curtain, TiltedPlate, FoldedPocket };
+enum class Sheet { None, Curtain, TiltedPlate, FoldedPocket, HorizontalPlate };
 
 std::string name_of(Sheet sheet) {
   switch (sheet) {
@@ -33,6 +33,8 @@ std::string name_of(Sheet sheet) {
       return "tilted plate";
     case Sheet::FoldedPocket:
       return "folded pocket";
+    case Sheet::HorizontalPlate:
+      return "horizontal plate";
   }
   return "?";
 }
@@ -97,6 +99,14 @@ void add_folded_pocket(GridLaplacian& a, int n) {
   }
 }
 
+/// A level plate over the middle half of the box in x and z: the y-faces at an odd index
+/// near mid-height, one fine cell above a level-1 coarse face.
+void add_horizontal_plate(GridLaplacian& a, int n) {
+  const int y = odd_near(n, 0.5);
+  for (int k = n / 4; k < n - n / 4; ++k)
+    for (int i = n / 4; i < n - n / 4; ++i) testing::laplacian_face_weight(a, 1, i, y, k) = 0.0;
+}
+
 GridLaplacian box_with(Sheet sheet, int n) {
   GridLaplacian a = smoke_box(n);
   switch (sheet) {
@@ -111,11 +121,15 @@ GridLaplacian box_with(Sheet sheet, int n) {
     case Sheet::FoldedPocket:
       add_folded_pocket(a, n);
       break;
+    case Sheet::HorizontalPlate:
+      add_horizontal_plate(a, n);
+      break;
   }
   return a;
 }
 
-constexpr Sheet kSheets[] = {Sheet::Curtain, Sheet::TiltedPlate, Sheet::FoldedPocket};
+constexpr Sheet kSheets[] = {Sheet::Curtain, Sheet::TiltedPlate, Sheet::FoldedPocket,
+                             Sheet::HorizontalPlate};
 
 // The V-cycle runs in single precision: <x, M y> and <M x, y> agree to float round-off
 // (~1e-7 relative per operation; 1e-5 leaves room for the sums over 10^4 cells), and
@@ -212,15 +226,11 @@ int iterations_of(const GridLaplacian& a) {
 // Issue #17: a sheet through coarse cells costs at most 1.25x the iterations of the same
 // box without it (a bound on a count, not a timing), at two sizes so that the sheet cuts
 // cells on three and four coarse levels. Measured (32^3 / 64^3, no sheet 10 / 11): curtain
-// 11 / 12, tilted plate 10 / 11, folded pocket 13 / 15; before the parts (one unknown per
-// coarse cell, transfers masked at closed faces) 20 / 29, 15 / 22 and 28 / 52.
-// The pocket still misses the issue's 1.25x (1.36x at 64^3), so its bound here is 1.4x. A
-// single horizontal plate one fine cell above a coarse face costs as much (14 against 11;
-// 11 when it lies on the coarse face), with 2 or 3 smoothing sweeps alike (11 against 9 with
-// 3), and neither centroid-based interpolation weights nor centroid-distance coarse
-// couplings changed the count. Our reading, not yet checked: coarse cells that straddle the
-// sheet's edge join both sides through the strip beside the edge, so from there on a thin
-// layer's part is merged with the other side.
+// 10 / 11, tilted plate 10 / 11, folded pocket 12 / 13, horizontal plate 10 / 11. Without
+// the sweeps near the shell (near_shell_sweeps 0) 11 / 12, 10 / 11, 13 / 15 (1.36x: the
+// pocket missed the bound) and 10 / 11; before the parts (one unknown per coarse cell,
+// transfers masked at closed faces) curtain, plate and pocket took 20 / 29, 15 / 22 and
+// 28 / 52.
 TEST(MultigridShellSides, SheetCostsAtMostAQuarterMoreIterations) {
   for (const int n : {32, 64}) {
     const int plain = iterations_of(box_with(Sheet::None, n));
@@ -228,8 +238,7 @@ TEST(MultigridShellSides, SheetCostsAtMostAQuarterMoreIterations) {
       const int cut = iterations_of(box_with(sheet, n));
       std::printf("%d^3 %s: %d MG-PCG iterations (no sheet: %d)\n", n, name_of(sheet).c_str(), cut,
                   plain);
-      const double bound = sheet == Sheet::FoldedPocket ? 1.4 : 1.25;
-      EXPECT_LE(cut, bound * plain) << name_of(sheet) << " at " << n << "^3";
+      EXPECT_LE(cut, 1.25 * plain) << name_of(sheet) << " at " << n << "^3";
     }
   }
 }

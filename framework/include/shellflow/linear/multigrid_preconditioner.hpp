@@ -30,6 +30,12 @@
 //    correction and as many backward (black, red) after; the coarsest grid gets
 //    `coarsest_sweeps` symmetric sweeps (red, black, red) from zero. Unknowns with a zero
 //    diagonal (cells isolated by shells, air cells) are left at 0.
+//  - Near a shell (cells with extra parts or a closed face between two active cells, and
+//    the cells within `near_shell_reach` of them) each level gets `near_shell_sweeps` more
+//    Gauss–Seidel sweeps in list order after the pre-smoothing, and as many in reverse
+//    order before the post-smoothing: the boundary smoothing of McAdams et al. 2010 applied
+//    about a sheet, where the rediscretised coarse operator fits the fine one worst (a folded
+//    pocket: 15 iterations against 11 without the sweeps, 13 with them, at 64³).
 // With the post-smoother the adjoint of the pre-smoother, R = P^T and symmetric coarse
 // operators, the V-cycle is a symmetric positive (semi)definite operator, so CG stays
 // valid (tests check <x, M^{-1} y> = <M^{-1} x, y>). It runs in single precision (the
@@ -51,6 +57,10 @@ struct MultigridSettings {
   int smoothing_sweeps = 2;
   /// Symmetric sweeps on the coarsest grid.
   int coarsest_sweeps = 30;
+  /// Extra Gauss–Seidel sweeps over the unknowns near a shell on every level, and how many
+  /// cells (box distance) about the shell's cells count as near.
+  int near_shell_sweeps = 2;
+  int near_shell_reach = 1;
 };
 
 class MultigridPreconditioner final : public Preconditioner {
@@ -121,6 +131,9 @@ class MultigridPreconditioner final : public Preconditioner {
     SparseRows prolongation_correction, restriction_correction;
 
     mutable std::vector<float> x, b, r;  ///< iterate, right-hand side, residual
+
+    /// Unknowns near a shell, which get extra Gauss–Seidel sweeps (see near_shell_sweeps).
+    std::vector<int> near_shell;
 
     /// Per unknown: the unknown of its part on the next coarser level (-1: inactive).
     std::vector<int> coarse_part;
