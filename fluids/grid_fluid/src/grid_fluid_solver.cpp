@@ -417,7 +417,8 @@ CouplingPressure& GridFluid::coupling_pressure() {
   if (!m_coupling) {
     const auto& p = m_projection.settings();
     m_coupling = std::make_unique<CouplingPressure>(
-        m_mac.grid(), CouplingSettings{m_density, m_coupling_tolerance, p.max_iterations});
+        m_mac.grid(), CouplingSettings{m_density, m_coupling_tolerance, p.max_iterations},
+        m_projection.pcg_workspace());
   }
   return *m_coupling;
 }

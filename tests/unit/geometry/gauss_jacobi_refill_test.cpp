@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid/sparse_samples.hpp"
 #include "test_meshes.hpp"
 
 namespace shellflow::geometry {
@@ -63,7 +64,7 @@ void check_two_sided(Location location, const T& above, const T& below) {
   }
   const GaussJacobiRefill refill(cut.grid, location);
   const RefillStats stats =
-      refill.run<T>(values, valid, invalid, refill.wedge_visibility(caster),
+      refill.run(values, valid, invalid, refill.wedge_visibility(caster),
                     [&](std::int64_t, std::int64_t) { return T(0.5 * (above + below)); });
   EXPECT_GT(stats.neighbour_iterations, 1);
   EXPECT_EQ(stats.isolated, 0);
@@ -108,7 +109,7 @@ TEST(GaussJacobiRefill, DoubleOnCellsKeepsEachSidesValue) {
     values[i] = 0.0;
   }
   const GaussJacobiRefill refill(cut.grid, location);
-  refill.run<double>(values, valid, band.samples(location), refill.wedge_visibility(caster),
+  refill.run(values, valid, band.samples(location), refill.wedge_visibility(caster),
                      [](std::int64_t, std::int64_t) { return 0.0; });
   for (const std::int64_t i : band.samples(location)) {
     const double expected = Cut::side(cut.grid.position(location, i)) > 0 ? 7.0 : -1.0;
@@ -130,7 +131,7 @@ TEST(GaussJacobiRefill, WithoutVisibilityTheSidesMix) {
   band.add(cut.view, 2.0 * kDx);
   for (const std::int64_t i : band.samples(location)) valid[i] = 0;
   const GaussJacobiRefill refill(cut.grid, location);
-  refill.run<double>(
+  refill.run(
       values, valid, band.samples(location), [](std::int64_t, std::int64_t) { return true; },
       [](std::int64_t, std::int64_t) { return 0.0; });
   int mixed = 0;
@@ -162,7 +163,7 @@ TEST(GaussJacobiRefill, EnclosedPocketTakesObjectValues) {
     }
   }
   const GaussJacobiRefill refill(grid, location);
-  const RefillStats stats = refill.run<Eigen::Vector3d>(
+  const RefillStats stats = refill.run(
       values, valid, invalid, refill.wedge_visibility(caster),
       [](std::int64_t, std::int64_t) { return Eigen::Vector3d(0, 0, 2); });
   EXPECT_GT(stats.from_neighbours, 0);
@@ -174,6 +175,59 @@ TEST(GaussJacobiRefill, EnclosedPocketTakesObjectValues) {
     EXPECT_NEAR((values[i] - (inside ? Eigen::Vector3d(0, 0, 2) : Eigen::Vector3d(1, 0, 0))).norm(),
                 0.0, 1e-12);
   }
+}
+
+// The refill reads only the candidates and their one-ring, so values held in a
+// grid::SparseSamples with just those samples give the dense result bit for bit (the
+// swept-node refill and the §5.1 jumps keep their scratch that way), and the samples
+// outside it are never asked for.
+TEST(GaussJacobiRefill, SparseSamplesGiveTheDenseResultBitForBit) {
+  Cut cut;
+  const WedgeCaster caster(cut.bvh, kEpsilon);
+  const Location location = Location::Node;
+  const std::int64_t n = cut.grid.size(location);
+  std::vector<double> dense(n);
+  for (std::int64_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d x = cut.grid.position(location, i);
+    dense[i] = Cut::side(x) > 0 ? 1.0 + x.x() : -2.0 + x.y() * x.z();
+  }
+  ShellBand band(cut.grid);
+  band.add(cut.view, 2.0 * kDx);
+  const auto invalid = band.samples(location);
+  std::vector<std::uint8_t> valid_dense(n, 1);
+  for (const std::int64_t i : invalid) valid_dense[i] = 0;
+  std::vector<std::uint8_t> valid_sparse = valid_dense;
+
+  grid::SparseSamples<double> sparse;
+  sparse.resize(n);
+  const Eigen::Vector3i counts = cut.grid.counts(location);
+  for (const std::int64_t i : invalid) {
+    const Eigen::Vector3i ijk = cut.grid.coordinates(location, i);
+    sparse.insert(i, dense[i]);
+    for (int axis = 0; axis < 3; ++axis)
+      for (const int side : {-1, 1}) {
+        Eigen::Vector3i nb = ijk;
+        nb[axis] += side;
+        if (nb[axis] < 0 || nb[axis] >= counts[axis]) continue;
+        const std::int64_t j = cut.grid.index(location, nb);
+        sparse.insert(j, dense[j]);
+      }
+  }
+  EXPECT_LT(sparse.indices().size(), static_cast<size_t>(n) / 2);  // sparse indeed
+
+  const GaussJacobiRefill refill(cut.grid, location);
+  const auto object = [](std::int64_t, std::int64_t) { return 0.25; };
+  refill.run(dense, valid_dense, invalid, refill.wedge_visibility(caster), object);
+  refill.run(sparse, valid_sparse, invalid, refill.wedge_visibility(caster), object);
+  for (const std::int64_t i : invalid) {
+    ASSERT_EQ(valid_sparse[i], 1);
+    ASSERT_EQ(sparse[i], dense[i]) << "sample " << i;
+  }
+  // clear() forgets every sample and leaves the grid's size.
+  sparse.clear();
+  EXPECT_TRUE(sparse.indices().empty());
+  EXPECT_FALSE(sparse.contains(invalid.front()));
+  EXPECT_EQ(sparse.size(), n);
 }
 
 }  // namespace

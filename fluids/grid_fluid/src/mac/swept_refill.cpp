@@ -47,21 +47,22 @@ SweptRefillStats SweptRefill::run(const ShellGeometry& start, const ShellGeometr
 
   // The refill reads invalid nodes and (layer by layer) their one-ring: copy the nodes
   // within the refill's reach into the AoS scratch.
-  if (m_scratch.size() != static_cast<size_t>(nodes)) m_scratch.resize(nodes);
+  m_scratch.resize(nodes);
+  m_scratch.clear();
   const geometry::GaussJacobiRefill refill(m_grid, Location::Node);
   const Eigen::Vector3i n = m_grid.counts(Location::Node);
   const std::int64_t stride[3] = {1, n.x(), std::int64_t{n.x()} * n.y()};
   for (const std::int64_t i : m_invalid_list) {
     m_node_valid[i] = 0;
     m_node_valid_before[i] = 0;
-    m_scratch[i] = fields.sample(i);
+    m_scratch.insert(i, fields.sample(i));
     const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, i);
     for (int axis = 0; axis < 3; ++axis)
       for (const int side : {-1, 1}) {
         const int c = ijk[axis] + side;
         if (c < 0 || c >= n[axis]) continue;
         const std::int64_t j = i + side * stride[axis];
-        m_scratch[j] = fields.sample(j);
+        if (!m_scratch.contains(j)) m_scratch.insert(j, fields.sample(j));
       }
   }
   const auto& caster = end.caster();
@@ -75,8 +76,7 @@ SweptRefillStats SweptRefill::run(const ShellGeometry& start, const ShellGeometr
     v[4] = m_ambient;
     return v;
   };
-  stats.refill = refill.run<NodeSample>(std::span<NodeSample>(m_scratch), m_node_valid,
-                                        m_invalid_list, visible, object_value);
+  stats.refill = refill.run(m_scratch, m_node_valid, m_invalid_list, visible, object_value);
   for (const std::int64_t i : m_invalid_list) fields.set(i, m_scratch[i]);
   return stats;
 }

@@ -16,8 +16,11 @@ namespace shellflow::grid_fluid {
 
 using grid::Location;
 
-CouplingPressure::CouplingPressure(const grid::UniformGrid& grid, CouplingSettings settings)
-    : m_grid(grid), m_settings(settings) {
+CouplingPressure::CouplingPressure(const grid::UniformGrid& grid, CouplingSettings settings,
+                                   std::shared_ptr<linear::PcgWorkspace> pcg_work)
+    : m_grid(grid),
+      m_settings(settings),
+      m_pcg_work(pcg_work ? std::move(pcg_work) : std::make_shared<linear::PcgWorkspace>()) {
   if (!(settings.fluid_density > 0.0))
     throw Error("CouplingPressure: the fluid density must be positive");
   for (int a = 0; a < 3; ++a) m_closed[a].assign(m_grid.size(face_location(a)), 0);
@@ -216,7 +219,7 @@ void CouplingPressure::solve(Eigen::VectorXd& b, double dt, const DomainBoundary
       m_bodies.empty() ? static_cast<const linear::LinearOperator&>(m_laplacian) : coupled;
   const auto result = linear::preconditioned_cg(
       op, m_multigrid, b, x, m_settings.tolerance, m_settings.max_iterations,
-      null_space.empty() ? nullptr : &null_space, &m_pcg_work);
+      null_space.empty() ? nullptr : &null_space, m_pcg_work.get());
   stats.iterations = result.iterations;
   stats.relative_residual = result.relative_residual;
   stats.converged = result.converged;
@@ -405,18 +408,12 @@ void CouplingPressure::build_jumps() {
 
 void CouplingPressure::jumps_to_nodes(double to_pressure, CouplingStats& stats) {
   const std::int64_t nodes = m_grid.size(Location::Node);
-  for (int a = 0; a < 3; ++a) {
-    if (m_node_jump[a].size() != static_cast<size_t>(nodes)) {
-      m_node_jump[a].assign(nodes, 0.0);
-      m_node_valid[a].assign(nodes, 0);
-    }
-  }
-  for (const std::int64_t i : m_touched)
-    for (int a = 0; a < 3; ++a) {
-      m_node_jump[a][i] = 0.0;
-      m_node_valid[a][i] = 0;
-    }
-  m_touched.clear();
+  for (int a = 0; a < 3; ++a)
+    if (m_node_valid[a].size() != static_cast<size_t>(nodes)) m_node_valid[a].assign(nodes, 0);
+  m_node_jump.resize(nodes);
+  for (const std::int64_t i : m_node_jump.indices())
+    for (int a = 0; a < 3; ++a) m_node_valid[a][i] = 0;
+  m_node_jump.clear();
   // Each shell face's jump p₊ − p₋ goes to its four nodes (summed, then averaged).
   for (size_t k = 0; k < m_shell_faces.size(); ++k) {
     const ShellFace& sf = m_shell_faces[k];
@@ -443,15 +440,14 @@ void CouplingPressure::jumps_to_nodes(double to_pressure, CouplingStats& stats) 
         node[b] += db;
         node[c] += dc;
         const std::int64_t i = m_grid.index(Location::Node, node);
-        if (m_node_valid[a][i] == 0) m_touched.push_back(i);
-        m_node_jump[a][i] += jump;
+        m_node_jump.insert(i, Eigen::Vector3d::Zero())[a] += jump;
         m_node_valid[a][i] += 1;
       }
   }
-  for (const std::int64_t i : m_touched)
+  for (const std::int64_t i : m_node_jump.indices())
     for (int a = 0; a < 3; ++a)
       if (m_node_valid[a][i] > 1) {
-        m_node_jump[a][i] /= m_node_valid[a][i];
+        m_node_jump[i][a] /= m_node_valid[a][i];
         m_node_valid[a][i] = 1;
       }
 }
@@ -494,12 +490,18 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
           Location::Node, st.lower + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2)));
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
+  for (const std::int64_t i : candidates) m_node_jump.insert(i, Eigen::Vector3d::Zero());
   const geometry::GaussJacobiRefill refill(m_grid, Location::Node, m_settings.spread_layers);
   for (int a = 0; a < 3; ++a) {
     std::vector<std::int64_t> isolated;
+    struct AxisJumps {  // one axis of the node jumps, as the refill's values
+      grid::SparseSamples<Eigen::Vector3d>* jumps;
+      int axis;
+      double& operator[](std::int64_t i) const { return (*jumps)[i][axis]; }
+    };
     // The jump is a property of the sheet, the same seen from either side: no rays.
     refill.run(
-        std::span<double>(m_node_jump[a]), std::span<std::uint8_t>(m_node_valid[a]),
+        AxisJumps{&m_node_jump, a}, std::span<std::uint8_t>(m_node_valid[a]),
         std::span<const std::int64_t>(candidates), [](std::int64_t, std::int64_t) { return true; },
         [&](std::int64_t from, std::int64_t to) {
           if (from == to) isolated.push_back(from);  // called serially for these
@@ -507,7 +509,6 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
         });
     for (const std::int64_t i : isolated) m_node_valid[a][i] = 2;  // no data: ignored below
   }
-  m_touched.insert(m_touched.end(), candidates.begin(), candidates.end());
 
   // Step 4: D at the barycentre, [p] = D·n/|n|₁ over the axes with data, F = −[p] A n.
   size_t offset = 0;  // of the shell's triangles in m_stencils
@@ -538,7 +539,7 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
           if (m_node_valid[a][i] != 1) continue;
           const double w = (d.x() ? t.x() : 1.0 - t.x()) * (d.y() ? t.y() : 1.0 - t.y()) *
                            (d.z() ? t.z() : 1.0 - t.z());
-          sum += w * m_node_jump[a][i];
+          sum += w * m_node_jump[i][a];
           w_sum += w;
         }
         if (w_sum <= 1e-12) continue;

@@ -13,8 +13,11 @@ namespace shellflow::grid_fluid {
 
 using grid::Location;
 
-PressureProjection::PressureProjection(const grid::UniformGrid& grid, ProjectionSettings settings)
-    : m_grid(grid), m_settings(settings) {
+PressureProjection::PressureProjection(const grid::UniformGrid& grid, ProjectionSettings settings,
+                                       std::shared_ptr<linear::PcgWorkspace> pcg_work)
+    : m_grid(grid),
+      m_settings(settings),
+      m_pcg_work(pcg_work ? std::move(pcg_work) : std::make_shared<linear::PcgWorkspace>()) {
   const std::int64_t cells = m_grid.size(Location::Cell);
   for (int a = 0; a < 3; ++a) m_neumann[a].assign(m_grid.size(face_location(a)), 0);
   m_scaled.assign(cells, 0.0);
@@ -247,8 +250,9 @@ void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats
     const double tolerance =
         std::min(m_settings.tolerance, m_settings.tolerance * scale / b.norm());
     if (m_settings.preconditioner == PressurePreconditioner::Multigrid) {
-      result = linear::preconditioned_cg(m_laplacian, m_multigrid, b, x, tolerance,
-                                         m_settings.max_iterations, &m_null_space, &m_pcg_work);
+      result =
+          linear::preconditioned_cg(m_laplacian, m_multigrid, b, x, tolerance,
+                                    m_settings.max_iterations, &m_null_space, m_pcg_work.get());
     } else {
       linear::PcgMic0Solver pcg;
       pcg.compute(m_matrix);

@@ -36,7 +36,7 @@ double SmokeForces::add_vorticity_confinement(NodeFields& fields, double dt, dou
   // Only interior nodes are written and read (all six neighbours in the grid), but the
   // gradient of |ω| reads the boundary nodes' |ω| as 0: no full-grid fill each step.
   for (auto& w : m_omega) w.resize(count);
-  if (static_cast<std::int64_t>(m_magnitude.size()) != count) m_magnitude.assign(count, 0.0);
+  if (static_cast<std::int64_t>(m_magnitude.size()) != count) m_magnitude.assign(count, 0.0f);
   const bool rays = band != nullptr && !shells.empty();
   if (rays) {
     m_visible_mask.assign(count, 0x3F);
@@ -55,8 +55,8 @@ double SmokeForces::add_vorticity_confinement(NodeFields& fields, double dt, dou
   // ω = ∇ × u with hidden neighbours replaced by the object velocity (§4.1), row by row;
   // nodes that see all six neighbours (all of them without shells) take the plain
   // differences, written out so that the row vectorises.
-  double* omega[3] = {m_omega[0].data(), m_omega[1].data(), m_omega[2].data()};
-  double* magnitude = m_magnitude.data();
+  float* omega[3] = {m_omega[0].data(), m_omega[1].data(), m_omega[2].data()};
+  float* magnitude = m_magnitude.data();
   const std::int64_t sy = stride[1], sz = stride[2];
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 1; k < n.z() - 1; ++k)
@@ -67,10 +67,10 @@ double SmokeForces::add_vorticity_confinement(NodeFields& fields, double dt, dou
         const double wx = ((u[2][i + sy] - u[2][i - sy]) - (u[1][i + sz] - u[1][i - sz])) * inv_2dx;
         const double wy = ((u[0][i + sz] - u[0][i - sz]) - (u[2][i + 1] - u[2][i - 1])) * inv_2dx;
         const double wz = ((u[1][i + 1] - u[1][i - 1]) - (u[0][i + sy] - u[0][i - sy])) * inv_2dx;
-        omega[0][i] = wx;
-        omega[1][i] = wy;
-        omega[2][i] = wz;
-        magnitude[i] = std::sqrt(wx * wx + wy * wy + wz * wz);
+        omega[0][i] = static_cast<float>(wx);
+        omega[1][i] = static_cast<float>(wy);
+        omega[2][i] = static_cast<float>(wz);
+        magnitude[i] = static_cast<float>(std::sqrt(wx * wx + wy * wy + wz * wz));
       }
       if (mask == nullptr) continue;
       for (std::int64_t i = first; i < last; ++i) {
@@ -88,8 +88,8 @@ double SmokeForces::add_vorticity_confinement(NodeFields& fields, double dt, dou
           return (v[axis][1][comp] - v[axis][0][comp]) * inv_2dx;
         };
         const Eigen::Vector3d w(dv(2, 1) - dv(1, 2), dv(0, 2) - dv(2, 0), dv(1, 0) - dv(0, 1));
-        for (int a = 0; a < 3; ++a) omega[a][i] = w[a];
-        magnitude[i] = w.norm();
+        for (int a = 0; a < 3; ++a) omega[a][i] = static_cast<float>(w[a]);
+        magnitude[i] = static_cast<float>(w.norm());
       }
     }
   // N = ∇|ω| / |∇|ω|| (hidden neighbours replaced by the centre value; the differences'

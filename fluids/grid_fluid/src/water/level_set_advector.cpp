@@ -157,7 +157,7 @@ void LevelSetAdvector::refill(std::span<double> phi, std::span<std::uint8_t> val
     const double d = hit ? hit->s * (b - a).norm() : 0.0;
     return std::max(d, shells.epsilon());
   };
-  refill.run<double>(phi, valid, invalid, visible, object_value);
+  refill.run(phi, valid, invalid, visible, object_value);
 }
 
 }  // namespace shellflow::grid_fluid

@@ -146,8 +146,8 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
       const auto object_value = [&](std::int64_t from, std::int64_t to) {
         return shells.object_velocity(m_grid.position(loc, from), m_grid.position(loc, to))[a];
       };
-      refill.run<double>(std::span<double>(u), std::span<std::uint8_t>(m_valid), invalid, visible,
-                         object_value);
+      refill.run(std::span<double>(u), std::span<std::uint8_t>(m_valid), invalid, visible,
+                 object_value);
     }
   }
   return stats;

@@ -39,7 +39,9 @@ class GaussJacobiRefill {
   GaussJacobiRefill(const grid::UniformGrid& grid, grid::Location location, int max_iterations = 32)
       : m_grid(grid), m_location(location), m_max_iterations(max_iterations) {}
 
-  /// Refills `values` where `valid` is 0, looking only at the samples listed in
+  /// Refills `values` (indexed by flat sample index: a span over the grid, or a
+  /// grid::SparseSamples holding the candidates and their neighbours) where `valid` is 0,
+  /// looking only at the samples listed in
   /// `candidates` (flat indices; e.g. the invalid list of SweptPointInvalidator or a
   /// ShellBand list; entries that are valid are ignored). On return every candidate is
   /// valid.
@@ -47,10 +49,11 @@ class GaussJacobiRefill {
   ///   object_value(from, to) -> T : the value used for a neighbour that is not visible
   ///   (and, with from == to, for an isolated sample).
   /// Both callables are called concurrently from several threads.
-  template <class T, class Visible, class ObjectValue>
-  RefillStats run(std::span<T> values, std::span<std::uint8_t> valid,
+  template <class Values, class Visible, class ObjectValue>
+  RefillStats run(Values&& values, std::span<std::uint8_t> valid,
                   std::span<const std::int64_t> candidates, Visible&& visible,
                   ObjectValue&& object_value) const {
+    using T = std::remove_cvref_t<decltype(values[std::int64_t{0}])>;
     RefillStats stats;
     std::vector<std::int64_t> pending;
     pending.reserve(candidates.size());

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "shellflow/geometry/gauss_jacobi_refill.hpp"
+#include "shellflow/grid/sparse_samples.hpp"
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
 
@@ -44,7 +45,8 @@ class SweptRefill {
   std::vector<std::int64_t> m_invalid_list;
   std::array<std::vector<std::uint8_t>, 3> m_face_swept;
   std::array<std::vector<std::int64_t>, 3> m_face_lists;
-  std::vector<NodeSample> m_scratch;  ///< AoS copy of the nodes the refill may read
+  /// Copies of the nodes the refill may read: the invalid ones and their one-ring.
+  grid::SparseSamples<NodeSample> m_scratch;
 };
 
 }  // namespace shellflow::grid_fluid

@@ -43,11 +43,13 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <utility>
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid/sparse_samples.hpp"
 #include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
@@ -83,7 +85,9 @@ struct CouplingStats {
 
 class CouplingPressure {
  public:
-  CouplingPressure(const grid::UniformGrid& grid, CouplingSettings settings);
+  /// `pcg_work`: CG's vectors, shared with the projection (null: own).
+  CouplingPressure(const grid::UniformGrid& grid, CouplingSettings settings,
+                   std::shared_ptr<linear::PcgWorkspace> pcg_work = nullptr);
 
   const CouplingSettings& settings() const { return m_settings; }
 
@@ -168,13 +172,13 @@ class CouplingPressure {
   FluidRegions m_regions;
   linear::GridLaplacian m_laplacian;            ///< face weights β
   linear::MultigridPreconditioner m_multigrid;  ///< McAdams et al. 2010 V-cycle
-  linear::PcgWorkspace m_pcg_work;              ///< CG's vectors, kept between solves
+  std::shared_ptr<linear::PcgWorkspace> m_pcg_work;  ///< CG's vectors, kept between solves
   std::vector<double> m_scaled;
   // Step 3: per axis, the jump on the nodes and its validity; only touched entries are
   // non-zero between calls.
-  std::array<std::vector<double>, 3> m_node_jump;
+  /// Per node near a two-way shell: the jump from the faces of each axis about it.
+  grid::SparseSamples<Eigen::Vector3d> m_node_jump;
   std::array<std::vector<std::uint8_t>, 3> m_node_valid;
-  std::vector<std::int64_t> m_touched;
   /// Step 3–4: trilinear stencil of each two-way triangle's barycentre.
   struct TriangleStencil {
     Eigen::Vector3i lower;  ///< lowest node of the cell

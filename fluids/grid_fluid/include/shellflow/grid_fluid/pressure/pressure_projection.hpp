@@ -36,6 +36,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <span>
 #include <vector>
 
@@ -96,9 +97,14 @@ struct ProjectionStats {
 
 class PressureProjection {
  public:
-  PressureProjection(const grid::UniformGrid& grid, ProjectionSettings settings);
+  /// `pcg_work`: CG's vectors, shared with the scene's other solve (the §5.1 coupling
+  /// solve runs before the projection and needs its vectors only while it runs); null: own.
+  PressureProjection(const grid::UniformGrid& grid, ProjectionSettings settings,
+                     std::shared_ptr<linear::PcgWorkspace> pcg_work = nullptr);
 
   const ProjectionSettings& settings() const { return m_settings; }
+  /// CG's vectors, for a solve that runs beside this one (never at the same time).
+  const std::shared_ptr<linear::PcgWorkspace>& pcg_workspace() const { return m_pcg_work; }
 
   /// Projects `mac` in place. `band` (may be null without shells) lists the faces where
   /// rays are cast. `mac.pressure()` receives p [Pa/(kg/m^3)]. `surface`: the liquid of
@@ -165,7 +171,7 @@ class PressureProjection {
   int m_enclosed_count = 0;
   std::vector<int> m_first_enclosed_cell;  ///< per enclosed group (CHOLMOD's pinned cell)
   linear::MultigridPreconditioner m_multigrid;
-  linear::PcgWorkspace m_pcg_work;         ///< CG's vectors, kept between solves
+  std::shared_ptr<linear::PcgWorkspace> m_pcg_work;  ///< CG's vectors, kept between solves
   Eigen::VectorXd m_flux, m_b, m_x;        ///< solve()'s, likewise
   std::vector<double> m_total;             ///< project()'s sum over refinement passes
   linear::SparseMatrix m_matrix;           ///< CSR form for MIC(0) and CHOLMOD

@@ -42,8 +42,10 @@ class SmokeForces {
 
  private:
   grid::UniformGrid m_grid;
-  std::array<std::vector<double>, 3> m_omega;
-  std::vector<double> m_magnitude;
+  // ω and |ω| in single precision: the force is a model term with a tuned ε, and floats
+  // halve the phase's largest arrays (138 to 71 MB at Fig. 2's 4.2M nodes).
+  std::array<std::vector<float>, 3> m_omega;
+  std::vector<float> m_magnitude;
   std::vector<std::uint8_t> m_visible_mask;  ///< 6 bits per node: neighbour (axis, side) visible
 };
 
