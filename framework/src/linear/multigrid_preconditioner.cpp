@@ -1,5 +1,7 @@
 #include "shellflow/linear/multigrid_preconditioner.hpp"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <string>
 
@@ -114,6 +116,57 @@ void half_sweep(const Level& level, int color) {
     }
   });
   for_extras(level, color, [&](int u) { x[u] = (b[u] + link_sum(level, u, x)) * inverse[u]; });
+}
+
+/// The cells of colour `color` on row (j, k) of a level without extra parts:
+/// x_u = (b_u + Σ w x_nb) / A_uu, or x_u = b_u / A_uu when `from_zero` (x = 0 elsewhere).
+template <class W>
+void sweep_row(const detail::CellStencil& s, const W* wx, const W* wy, const W* wz, float* x,
+               const float* b, const float* inverse, int j, int k, int color, bool from_zero,
+               float* sum, const float* zeros) {
+  const std::int64_t row = s.cell_row(j, k);
+  const int first = (j + k + color) & 1;
+  if (from_zero) {
+    for (int i = first; i < s.nx; i += 2) x[row + i] = b[row + i] * inverse[row + i];
+    return;
+  }
+  detail::row_sums(s, wx, wy, wz, static_cast<const float*>(x), zeros, j, k, sum,
+                   static_cast<float*>(nullptr));
+  for (int i = first; i < s.nx; i += 2) x[row + i] = (b[row + i] + sum[i]) * inverse[row + i];
+}
+
+/// The half sweep of colour `first` and then the other one's on a level without extra
+/// parts, in one pass over the planes: each thread takes a slab of planes and sweeps the
+/// other colour on plane k − 1 right after the first colour on plane k (it reads only
+/// first-colour cells of planes k − 2 … k, all updated by then), while those planes are
+/// still in cache; the slab's two end planes wait for the neighbouring slabs (a barrier).
+/// Bit for bit the two half sweeps, with about half their memory traffic.
+void fused_sweep(const Level& level, int first, bool from_zero) {
+  const auto s = detail::stencil_of(level.cells);
+  float* x = level.x.data();
+  const float* b = level.b.data();
+  const float* inverse = level.inverse_diagonal.data();
+  const int second = 1 - first;
+  with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
+#pragma omp parallel if (parallel(level))
+    {
+      const int threads = omp_get_num_threads(), t = omp_get_thread_num();
+      const int k0 = static_cast<int>(std::int64_t(s.nz) * t / threads);
+      const int k1 = static_cast<int>(std::int64_t(s.nz) * (t + 1) / threads);
+      std::vector<float> sum(s.nx), zeros(s.nx, 0.0f);
+      const auto plane = [&](int k, int color, bool zero) {
+        for (int j = 0; j < s.ny; ++j)
+          sweep_row(s, wx, wy, wz, x, b, inverse, j, k, color, zero, sum.data(), zeros.data());
+      };
+      for (int k = k0; k < k1; ++k) {
+        plane(k, first, from_zero);
+        if (k - 1 > k0) plane(k - 1, second, false);
+      }
+#pragma omp barrier
+      if (k1 > k0) plane(k0, second, false);
+      if (k1 - 1 > k0) plane(k1 - 1, second, false);
+    }
+  });
 }
 
 /// Gauss–Seidel over the unknowns near a shell, in list order (forward) or reversed
@@ -402,11 +455,16 @@ void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z
     const Level& level = m_levels[l];
     // From x = 0 the first red half sweep reads no neighbour (x_red = b / A_cc) and the
     // black one reads only red cells: together they write every cell, so no zero fill.
-    first_red_sweep(level);
-    half_sweep(level, 1);
-    for (int s = 1; s < nu; ++s) {
-      half_sweep(level, 0);
+    if (!level.has_links()) {
+      fused_sweep(level, 0, true);
+      for (int s = 1; s < nu; ++s) fused_sweep(level, 0, false);
+    } else {
+      first_red_sweep(level);
       half_sweep(level, 1);
+      for (int s = 1; s < nu; ++s) {
+        half_sweep(level, 0);
+        half_sweep(level, 1);
+      }
     }
     for (int s = 0; s < m_settings.near_shell_sweeps; ++s) near_shell_sweep(level, true);
     level_residual(level);
@@ -428,8 +486,12 @@ void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z
     prolongate_add(m_levels[l + 1], level, parents[l + 1]);
     for (int s = 0; s < m_settings.near_shell_sweeps; ++s) near_shell_sweep(level, false);
     for (int s = 0; s < nu; ++s) {
-      half_sweep(level, 1);
-      half_sweep(level, 0);
+      if (!level.has_links()) {
+        fused_sweep(level, 1, false);
+      } else {
+        half_sweep(level, 1);
+        half_sweep(level, 0);
+      }
     }
   }
   const Level& fine = m_levels[0];
