@@ -142,5 +142,34 @@ TEST(FluidRegions, ParallelFillMatchesTheDefinitionForEveryThreadCount) {
   EXPECT_GT(most_regions, 50);
 }
 
+// update_fluid_regions keeps the labelling only while its inputs are the same: the same
+// closed faces, open sides and interior flag, and no water. Any change relabels, and the
+// result always equals the definition.
+TEST(FluidRegions, KeptOnlyWhileTheClosedFacesAndSidesAreTheSame) {
+  Case c = random_case({9, 7, 8}, 0.35, 0.0, 5);
+  FluidRegions got;
+  EXPECT_TRUE(update_fluid_regions(c.grid, c.closed, c.boundary, got));
+  EXPECT_FALSE(update_fluid_regions(c.grid, c.closed, c.boundary, got));  // same inputs
+  EXPECT_EQ(got.region, reference(c).region);
+
+  c.closed[1][c.closed[1].size() / 2] ^= 1;  // one face opens or closes
+  EXPECT_TRUE(update_fluid_regions(c.grid, c.closed, c.boundary, got));
+  EXPECT_EQ(got.region, reference(c).region);
+  EXPECT_EQ(got.enclosed, reference(c).enclosed);
+
+  c.boundary.side(0, 0).type = BoundaryType::Open;  // a side opens
+  EXPECT_TRUE(update_fluid_regions(c.grid, c.closed, c.boundary, got));
+  EXPECT_EQ(got.enclosed, reference(c).enclosed);
+
+  // The plain labelling in between forgets the key; water is never kept.
+  label_fluid_regions(c.grid, c.closed, c.boundary, got);
+  EXPECT_TRUE(update_fluid_regions(c.grid, c.closed, c.boundary, got));
+  const Case wet = random_case({9, 7, 8}, 0.35, 0.3, 6);
+  const std::span<const std::uint8_t> liquid(wet.liquid);
+  EXPECT_TRUE(update_fluid_regions(wet.grid, wet.closed, wet.boundary, got, true, liquid));
+  EXPECT_TRUE(update_fluid_regions(wet.grid, wet.closed, wet.boundary, got, true, liquid));
+  EXPECT_EQ(got.region, reference(wet).region);
+}
+
 }  // namespace
 }  // namespace shellflow::grid_fluid

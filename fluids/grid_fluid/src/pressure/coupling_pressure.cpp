@@ -251,14 +251,12 @@ void CouplingPressure::drop_sealed_cells(Eigen::VectorXd& b) {
 void CouplingPressure::label_regions(const DomainBoundary& boundary, const CouplingStats& stats) {
   // One-way shells, rigid bodies and sources close interior faces here (the faces of
   // weight β stay open).
-  const auto label = [&] {
-    label_fluid_regions(m_grid, m_closed, boundary, m_regions,
-                        stats.kinematic_faces > 0 || stats.rigid_faces > 0 ||
-                            boundary.has_source_faces() || m_surface != nullptr,
-                        m_surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
-                                             : std::span<const std::uint8_t>());
-  };
-  label();
+  const bool interior_closed = stats.kinematic_faces > 0 || stats.rigid_faces > 0 ||
+                               boundary.has_source_faces() || m_surface != nullptr;
+  const auto liquid = m_surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
+                                           : std::span<const std::uint8_t>();
+  // Kept while the closed faces stay the same (a moving cloth's faces are open here).
+  update_fluid_regions(m_grid, m_closed, boundary, m_regions, interior_closed, liquid);
   if (stats.rigid_faces == 0) return;
   // An enclosed region whose constant no body feels (K 1_r = 0: the inside of a closed
   // rigid shell, or fluid around one in a closed box) is a null vector of the whole
@@ -283,7 +281,7 @@ void CouplingPressure::label_regions(const DomainBoundary& boundary, const Coupl
       if (felt[r].norm() <= 1e-9 * scale[r]) continue;
       for (const ShellFace& sf : m_shell_faces)
         if (sf.body >= 0) m_closed[sf.axis][sf.face] = 0;
-      label();
+      label_fluid_regions(m_grid, m_closed, boundary, m_regions, interior_closed, liquid);
       return;
     }
   }

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <utility>
 
+#include "shellflow/grid/fingerprint.hpp"
+
 namespace shellflow::grid_fluid {
 
 using grid::Location;
@@ -188,6 +190,7 @@ void label_fluid_regions(const grid::UniformGrid& grid,
                          const DomainBoundary& boundary, FluidRegions& out, bool interior_closed,
                          std::span<const std::uint8_t> liquid) {
   const std::int64_t cells = grid.size(Location::Cell);
+  out.keyed = false;
   out.region.resize(cells);
   out.enclosed.clear();
   out.sealed.clear();
@@ -237,6 +240,25 @@ void label_fluid_regions(const grid::UniformGrid& grid,
   for (int s = 0; s < slabs; ++s)
     for (std::int64_t cell = first_cell(s); cell < first_cell(s + 1); ++cell)
       if (out.region[cell] >= 0) out.cells[fill[s][out.region[cell]]++] = cell;
+}
+
+bool update_fluid_regions(const grid::UniformGrid& grid,
+                          const std::array<std::vector<std::uint8_t>, 3>& closed,
+                          const DomainBoundary& boundary, FluidRegions& out, bool interior_closed,
+                          std::span<const std::uint8_t> liquid) {
+  std::uint64_t key = interior_closed ? 1 : 0;  // then one bit per open side
+  for (int a = 0; a < 3; ++a)
+    for (int side = 0; side < 2; ++side)
+      key = 2 * key + (boundary.side(a, side).type == BoundaryType::Open ? 1 : 0);
+  if (liquid.empty()) {
+    for (int a = 0; a < 3; ++a)
+      key = grid::fingerprint_of(std::span<const std::uint8_t>(closed[a]), key);
+    if (out.keyed && out.key == key) return false;
+  }
+  label_fluid_regions(grid, closed, boundary, out, interior_closed, liquid);
+  out.keyed = liquid.empty();  // the liquid changes every step: never kept
+  out.key = key;
+  return true;
 }
 
 }  // namespace shellflow::grid_fluid

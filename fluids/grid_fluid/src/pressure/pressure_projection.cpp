@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "shellflow/grid/fingerprint.hpp"
 #include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
 #include "shellflow/linear/cholmod_solver.hpp"
 #include "shellflow/linear/pcg_mic0_solver.hpp"
@@ -287,22 +286,9 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
   apply_boundary_velocities(mac, boundary);
   mark_neumann(mac, boundary, shells, band, stats);
   const bool interior_closed = stats.shell_neumann_faces > 0 || boundary.has_source_faces();
-  // The regions follow from the closed faces, the open sides and the liquid cells alone:
-  // without water and with the same closed faces as the last step (a smoke scene whose
-  // shells stand still) they are the same, and the labelling is kept.
-  std::uint64_t key = interior_closed ? 1 : 0;  // then one bit per open side
-  for (int a = 0; a < 3; ++a)
-    for (int side = 0; side < 2; ++side)
-      key = 2 * key + (boundary.side(a, side).type == BoundaryType::Open ? 1 : 0);
-  if (surface == nullptr)
-    for (int a = 0; a < 3; ++a)
-      key = grid::fingerprint_of(std::span<const std::uint8_t>(m_neumann[a]), key);
-  if (surface != nullptr || !m_regions_kept || key != m_regions_key)
-    label_fluid_regions(m_grid, m_neumann, boundary, m_regions, interior_closed,
-                        surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
-                                           : std::span<const std::uint8_t>());
-  m_regions_kept = surface == nullptr;
-  m_regions_key = key;
+  update_fluid_regions(m_grid, m_neumann, boundary, m_regions, interior_closed,
+                       surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
+                                          : std::span<const std::uint8_t>());
   const int regions = static_cast<int>(m_regions.enclosed.size());
   stats.regions = regions;
   for (const auto e : m_regions.enclosed) stats.enclosed_regions += e;

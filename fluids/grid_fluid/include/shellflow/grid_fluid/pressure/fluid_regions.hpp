@@ -28,6 +28,9 @@ struct FluidRegions {
   std::vector<std::uint8_t> sealed;
   std::vector<std::int64_t> start;  ///< CSR over the regions: cells of r are
   std::vector<std::int64_t> cells;  ///< cells[start[r] .. start[r+1]), in cell order
+  /// Set by update_fluid_regions: the labelling's inputs when they allow keeping it.
+  bool keyed = false;
+  std::uint64_t key = 0;
 
   int count() const { return static_cast<int>(enclosed.size()); }
   std::int64_t size(int r) const { return start[r + 1] - start[r]; }
@@ -50,5 +53,15 @@ void label_fluid_regions(const grid::UniformGrid& grid,
                          const std::array<std::vector<std::uint8_t>, 3>& closed,
                          const DomainBoundary& boundary, FluidRegions& out,
                          bool interior_closed = true, std::span<const std::uint8_t> liquid = {});
+
+/// label_fluid_regions, unless `out` was labelled by this function from the same inputs:
+/// no water, and the same closed faces (grid::fingerprint), open sides and
+/// interior_closed — a smoke scene whose shells stand still, or whose only moving shells
+/// leave their faces open (a two-way cloth in the §5.1 solve). Returns true when it
+/// labelled.
+bool update_fluid_regions(const grid::UniformGrid& grid,
+                          const std::array<std::vector<std::uint8_t>, 3>& closed,
+                          const DomainBoundary& boundary, FluidRegions& out,
+                          bool interior_closed = true, std::span<const std::uint8_t> liquid = {});
 
 }  // namespace shellflow::grid_fluid

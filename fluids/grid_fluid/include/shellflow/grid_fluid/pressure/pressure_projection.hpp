@@ -161,8 +161,6 @@ class PressureProjection {
   ProjectionSettings m_settings;
   std::array<std::vector<std::uint8_t>, 3> m_neumann;
   FluidRegions m_regions;
-  bool m_regions_kept = false;        ///< m_regions may be kept when the key is unchanged
-  std::uint64_t m_regions_key = 0;    ///< fingerprint of the closed faces and open sides
   std::vector<double> m_scaled;       ///< p' = p Δt / Δx, kept as the next initial guess
   linear::GridLaplacian m_laplacian;  ///< on the solve box
   Eigen::Vector3i m_box_lo = Eigen::Vector3i::Zero();
