@@ -16,7 +16,7 @@ GridLaplacian::GridLaplacian(const Eigen::Vector3i& cells) : m_cells(cells) {
     throw Error("GridLaplacian: every axis needs at least one cell, got " +
                 std::to_string(cells.x()) + " x " + std::to_string(cells.y()) + " x " +
                 std::to_string(cells.z()));
-  for (int a = 0; a < 3; ++a) m_weight[a].assign(face_counts(a).prod(), 0.0);
+  for (int a = 0; a < 3; ++a) m_weight[a].assign(face_counts(a).prod(), 0.0f);
 }
 
 Eigen::Vector3i GridLaplacian::face_counts(int axis) const {
@@ -32,7 +32,7 @@ double GridLaplacian::diagonal(int cell) const {
   const std::int64_t fx = s.face_x_row(j, k) + i;
   const std::int64_t fy = s.face_y_row(j, k) + i;
   const std::int64_t fz = s.face_z_row(j, k) + i;
-  return m_weight[0][fx] + m_weight[0][fx + 1] + m_weight[1][fy] + m_weight[1][fy + nx] +
+  return double(m_weight[0][fx]) + m_weight[0][fx + 1] + m_weight[1][fy] + m_weight[1][fy + nx] +
          m_weight[2][fz] + m_weight[2][fz + s.plane()] +
          (m_dirichlet.empty() ? 0.0 : m_dirichlet[cell]);
 }
@@ -42,7 +42,7 @@ namespace {
 /// Σ over the cells of entry(cell, x_cell, (A x)_cell), the products row by row with
 /// OpenMP over (k, j) rows: the one sweep behind both the product and the residual.
 template <class Entry>
-double sum_over_products(const detail::CellStencil& s, const std::array<std::vector<double>, 3>& w,
+double sum_over_products(const detail::CellStencil& s, const std::array<std::vector<float>, 3>& w,
                          const std::vector<double>& dirichlet, const Eigen::VectorXd& x,
                          std::int64_t size, Entry&& entry) {
   const double* xp = x.data();
@@ -100,7 +100,7 @@ SparseMatrix GridLaplacian::to_sparse() const {
     const std::int64_t fx = s.face_x_row(j, k) + i;
     const std::int64_t fy = s.face_y_row(j, k) + i;
     const std::int64_t fz = s.face_z_row(j, k) + i;
-    const double d = m_weight[0][fx] + m_weight[0][fx + 1] + m_weight[1][fy] +
+    const double d = double(m_weight[0][fx]) + m_weight[0][fx + 1] + m_weight[1][fy] +
                      m_weight[1][fy + s.nx] + m_weight[2][fz] + m_weight[2][fz + s.plane()] +
                      (m_dirichlet.empty() ? 0.0 : m_dirichlet[c]);
     if (k > 0 && m_weight[2][fz] != 0.0) emit(c - s.plane(), -m_weight[2][fz]);
@@ -141,7 +141,7 @@ SparseMatrix GridLaplacian::to_sparse() const {
 
 std::uint64_t GridLaplacian::fingerprint() const {
   std::uint64_t h = grid::fingerprint_of(std::span<const int>(m_cells.data(), 3));
-  for (int a = 0; a < 3; ++a) h = grid::fingerprint_of(std::span<const double>(m_weight[a]), h);
+  for (int a = 0; a < 3; ++a) h = grid::fingerprint_of(std::span<const float>(m_weight[a]), h);
   return grid::fingerprint_of(std::span<const double>(m_dirichlet), h);
 }
 

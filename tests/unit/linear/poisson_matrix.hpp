@@ -13,7 +13,6 @@
 #include <numbers>
 #include <random>
 #include <vector>
-#include "shellflow/linear/grid_laplacian.hpp"
 
 #include "shellflow/linear/grid_laplacian.hpp"
 #include "shellflow/linear/sparse_matrix.hpp"
@@ -21,7 +20,7 @@
 namespace shellflow::linear::testing {
 
 /// The weight of face (i, j, k) of family `axis` of a GridLaplacian (its flat face order).
-inline double& laplacian_face_weight(GridLaplacian& a, int axis, int i, int j, int k) {
+inline float& laplacian_face_weight(GridLaplacian& a, int axis, int i, int j, int k) {
   const Eigen::Vector3i n = a.face_counts(axis);
   return a.weights(axis)[i + n.x() * (j + n.y() * k)];
 }

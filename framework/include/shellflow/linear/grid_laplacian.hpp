@@ -33,9 +33,11 @@ class GridLaplacian final : public LinearOperator {
   const Eigen::Vector3i& cells() const { return m_cells; }
   /// Face counts of family `axis`: cells + e_axis.
   Eigen::Vector3i face_counts(int axis) const;
-  /// Weights of the faces of family `axis` (see the layout above).
-  std::vector<double>& weights(int axis) { return m_weight[axis]; }
-  const std::vector<double>& weights(int axis) const { return m_weight[axis]; }
+  /// Weights of the faces of family `axis` (see the layout above), in single precision:
+  /// a conductance needs no more digits than the solve's tolerance (1e-5), the
+  /// projection's are 0 or 1 exactly, and floats halve the products' largest stream.
+  std::vector<float>& weights(int axis) { return m_weight[axis]; }
+  const std::vector<float>& weights(int axis) const { return m_weight[axis]; }
   /// Per-cell Dirichlet conductances d_c (empty: none; else one per cell).
   std::vector<double>& dirichlet() { return m_dirichlet; }
   const std::vector<double>& dirichlet() const { return m_dirichlet; }
@@ -59,7 +61,7 @@ class GridLaplacian final : public LinearOperator {
 
  private:
   Eigen::Vector3i m_cells = Eigen::Vector3i::Zero();
-  std::array<std::vector<double>, 3> m_weight;
+  std::array<std::vector<float>, 3> m_weight;
   std::vector<double> m_dirichlet;
 };
 
