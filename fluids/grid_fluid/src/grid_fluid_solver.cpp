@@ -212,10 +212,7 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
   }
   m_probes = FluidProbes(params.at("probes"), "/probes", m_mac.grid());
   m_nodes = NodeFields(m_mac.grid(), m_buoyancy.ambient_temperature, m_liquid == nullptr);
-  if (!m_prescribed) {  // what the solved step advects into
-    m_next = m_nodes;
-    for (auto& u : m_u_n) u.assign(m_nodes.size(), 0.0);
-  }
+  if (!m_prescribed) m_next = m_nodes;  // what the solved step advects into
   if (params.contains("initial_velocity") && !params.at("initial_velocity").is_null()) {
     // Faces only: advect() transfers them to the nodes before its first step (§4.2).
     AnalyticVelocity(params.at("initial_velocity"), m_mac.grid()).fill(m_mac);
@@ -329,14 +326,13 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   } else {
     // 1. §4.2 faces → nodes (already done at the end of the last projection, same shells).
     if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band);
-    for (int a = 0; a < 3; ++a) m_u_n[a] = m_nodes.velocity(a);
 
     // 2. §4.1 semi-Lagrangian advection with visibility (water: φ along the same rays).
     m_advector.advect(
         m_nodes, m_next, dt, geom_n, band,
         m_liquid ? m_liquid->velocity_nodes(t, dt, speed) : std::span<const std::uint8_t>());
     if (m_liquid) m_liquid->advect(m_nodes, dt, geom_n, band);
-    std::swap(m_nodes, m_next);
+    std::swap(m_nodes, m_next);  // m_next keeps the fields at n: u^n for step 5
 
     // 3. Water: gravity on the nodes (§4.1), emitters; smoke: sources and body forces.
     if (m_liquid)
@@ -361,7 +357,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   // 5. §4.2 increments back to the persistent faces, with visibility at n+1.
   static const std::array<std::vector<std::uint8_t>, 3> no_faces;
   m_transfer.increments_to_faces(
-      m_mac, m_nodes, m_u_n,
+      m_mac, m_nodes, m_next.velocities(),
       shells ? m_refill.node_valid_before() : std::span<const std::uint8_t>(),
       shells ? m_refill.face_swept() : no_faces, geom_np1, band, m_boundary);
   apply_boundary_velocities(m_mac, m_boundary);

@@ -142,8 +142,7 @@ class GridFluid final : public sdk::FluidSolver {
 
   MacGrid m_mac;
   NodeFields m_nodes;
-  NodeFields m_next;
-  std::array<std::vector<double>, 3> m_u_n;
+  NodeFields m_next;  ///< advect()'s target; after it, the fields at n
   bool m_nodes_current = false;
   double m_time = 0.0;
 

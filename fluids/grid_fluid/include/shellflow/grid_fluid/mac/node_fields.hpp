@@ -29,6 +29,7 @@ class NodeFields {
   std::int64_t size() const { return static_cast<std::int64_t>(m_velocity[0].size()); }
   std::vector<double>& velocity(int axis) { return m_velocity[axis]; }
   const std::vector<double>& velocity(int axis) const { return m_velocity[axis]; }
+  const std::array<std::vector<double>, 3>& velocities() const { return m_velocity; }
   std::vector<double>& density() { return m_density; }
   const std::vector<double>& density() const { return m_density; }
   std::vector<double>& temperature() { return m_temperature; }
