@@ -492,9 +492,9 @@ void GridFluid::save(sdk::StateWriter& out) const {
   write_vector(m_nodes.density());
   write_vector(m_nodes.temperature());
   for (int a = 0; a < 3; ++a) write_vector(m_nodes.velocity(a));
-  write_vector(const_cast<PressureProjection&>(m_projection).scaled_pressure());
+  out.write_matrix(const_cast<PressureProjection&>(m_projection).scaled_pressure());
   out.write(m_coupling != nullptr);
-  if (m_coupling) write_vector(m_coupling->scaled_pressure());
+  if (m_coupling) out.write_matrix(m_coupling->scaled_pressure());
   if (m_liquid) {
     write_vector(m_liquid->level_set().phi());
     m_liquid->particles().save(out);
@@ -514,14 +514,21 @@ void GridFluid::restore(sdk::StateReader& in) {
       throw Error("grid_fluid restore(): the saved state is for another grid size");
     std::copy(m.data(), m.data() + m.size(), v.begin());
   };
+  const auto read_scaled = [&](Eigen::VectorXd& v) {
+    Eigen::VectorXd m;
+    in.read_matrix(m);
+    if (m.size() != v.size())
+      throw Error("grid_fluid restore(): the saved state is for another grid size");
+    v.swap(m);
+  };
   m_time = in.read<double>();
   for (int a = 0; a < 3; ++a) read_vector(m_mac.face_velocity(a));
   read_vector(m_mac.pressure());
   read_vector(m_nodes.density());
   read_vector(m_nodes.temperature());
   for (int a = 0; a < 3; ++a) read_vector(m_nodes.velocity(a));
-  read_vector(m_projection.scaled_pressure());
-  if (in.read<bool>()) read_vector(coupling_pressure().scaled_pressure());
+  read_scaled(m_projection.scaled_pressure());
+  if (in.read<bool>()) read_scaled(coupling_pressure().scaled_pressure());
   if (m_liquid) {
     read_vector(m_liquid->level_set().phi());
     m_liquid->particles().restore(in);

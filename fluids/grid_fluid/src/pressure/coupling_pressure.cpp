@@ -24,7 +24,7 @@ CouplingPressure::CouplingPressure(const grid::UniformGrid& grid, CouplingSettin
   if (!(settings.fluid_density > 0.0))
     throw Error("CouplingPressure: the fluid density must be positive");
   for (int a = 0; a < 3; ++a) m_closed[a].assign(m_grid.size(face_location(a)), 0);
-  m_scaled.assign(m_grid.size(Location::Cell), 0.0);
+  m_scaled.setZero(m_grid.size(Location::Cell));
   m_laplacian = linear::GridLaplacian(m_grid.cells());
 }
 
@@ -210,20 +210,17 @@ void CouplingPressure::solve(Eigen::VectorXd& b, double dt, const DomainBoundary
       b[m_regions.cells[k]] -= mean;
   }
 
-  const std::int64_t cells = m_grid.size(Location::Cell);
-  Eigen::VectorXd x = Eigen::Map<const Eigen::VectorXd>(m_scaled.data(), cells);
   m_multigrid.compute(m_laplacian);
   const double dx = m_grid.dx();
   const RigidShellOperator coupled(m_laplacian, m_bodies, m_settings.fluid_density * dx * dx * dx);
   const linear::LinearOperator& op =
       m_bodies.empty() ? static_cast<const linear::LinearOperator&>(m_laplacian) : coupled;
   const auto result = linear::preconditioned_cg(
-      op, m_multigrid, b, x, m_settings.tolerance, m_settings.max_iterations,
+      op, m_multigrid, b, m_scaled, m_settings.tolerance, m_settings.max_iterations,
       null_space.empty() ? nullptr : &null_space, m_pcg_work.get());
   stats.iterations = result.iterations;
   stats.relative_residual = result.relative_residual;
   stats.converged = result.converged;
-  std::copy(x.data(), x.data() + cells, m_scaled.begin());
 }
 
 void CouplingPressure::drop_sealed_cells(Eigen::VectorXd& b) {
@@ -625,8 +622,7 @@ CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
   // The rigid bodies' wrenches as the solve has them (rigid_shell_coupling.hpp).
   m_body_wrench.resize(m_bodies.size());
   const double dx = m_grid.dx();
-  const Eigen::Map<const Eigen::VectorXd> q(m_scaled.data(),
-                                            static_cast<Eigen::Index>(m_scaled.size()));
+  const Eigen::VectorXd& q = m_scaled;
   for (size_t i = 0; i < m_bodies.size(); ++i)
     m_body_wrench[i] = m_settings.fluid_density * dx * dx * dx / dt * m_bodies[i].impulse(q);
   jumps_to_nodes(m_settings.fluid_density * dx / dt, stats);

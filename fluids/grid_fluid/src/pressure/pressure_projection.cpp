@@ -19,7 +19,7 @@ PressureProjection::PressureProjection(const grid::UniformGrid& grid, Projection
       m_pcg_work(pcg_work ? std::move(pcg_work) : std::make_shared<linear::PcgWorkspace>()) {
   const std::int64_t cells = m_grid.size(Location::Cell);
   for (int a = 0; a < 3; ++a) m_neumann[a].assign(m_grid.size(face_location(a)), 0);
-  m_scaled.assign(cells, 0.0);
+  m_scaled.setZero(cells);
 }
 
 std::int64_t PressureProjection::neighbour(const Eigen::Vector3i& c, int axis, int side) const {
@@ -138,6 +138,11 @@ void PressureProjection::find_solve_box() {
   m_box_lo = lo;
   const Eigen::Vector3i size = hi - lo;
   if (m_laplacian.cells() != size) m_laplacian = linear::GridLaplacian(size);
+  if (size == n) {  // unknown u is cell u
+    m_box_cells.clear();
+    m_box_cells.shrink_to_fit();
+    return;
+  }
   m_box_cells.resize(size.prod());
 #pragma omp parallel for collapse(2) schedule(static)
   for (int k = 0; k < size.z(); ++k)
@@ -185,7 +190,7 @@ void PressureProjection::build_operator() {
     dirichlet.assign(unknowns, 0.0);
 #pragma omp parallel for schedule(static)
     for (std::int64_t u = 0; u < unknowns; ++u) {
-      const std::int64_t cell = m_box_cells[u];
+      const std::int64_t cell = box_cell(u);
       if (air(cell)) continue;
       const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell);
       for (int a = 0; a < 3; ++a)
@@ -218,27 +223,39 @@ void PressureProjection::build_operator() {
         m_matrix.coeffRef(c, c) += 1.0;  // fixes the constant; exact for a consistent b
       if (m_surface != nullptr)          // air cells: an identity row, p' = 0 for b = 0
         for (int u = 0; u < m_laplacian.size(); ++u)
-          if (air(m_box_cells[u])) m_matrix.coeffRef(u, u) += 1.0;
+          if (air(box_cell(u))) m_matrix.coeffRef(u, u) += 1.0;
     }
   }
 }
 
 void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats& stats) {
   const int n = m_laplacian.size();
-  Eigen::VectorXd& flux = m_flux;
-  cell_fluxes(mac, flux);
-  Eigen::VectorXd &b = m_b, &x = m_x;
-  b.resize(n);
-  x.resize(n);
+  // On a whole-grid box the solve reads the fluxes into b and works on m_scaled in place;
+  // on a sub-box (water) it gathers them.
+  const bool whole = m_box_cells.empty();
+  Eigen::VectorXd& b = m_b;
+  Eigen::VectorXd& x = whole ? m_scaled : m_x;
+  if (whole) {
+    cell_fluxes(mac, b);
 #pragma omp parallel for schedule(static)
-  for (int u = 0; u < n; ++u) {
-    const std::int64_t cell = m_box_cells[u];
-    b[u] = air(cell) ? 0.0 : -flux[cell];  // no unknown in the air
-    x[u] = m_scaled[cell];
+    for (int u = 0; u < n; ++u) b[u] = air(u) ? 0.0 : -b[u];  // no unknown in the air
+  } else {
+    cell_fluxes(mac, m_flux);
+    b.resize(n);
+    x.resize(n);
+#pragma omp parallel for schedule(static)
+    for (int u = 0; u < n; ++u) {
+      const std::int64_t cell = m_box_cells[u];
+      b[u] = air(cell) ? 0.0 : -m_flux[cell];
+      x[u] = m_scaled[cell];
+    }
+    m_scaled.setZero();
   }
   m_null_space.project(b);  // consistent to round-off after the correction
-  std::fill(m_scaled.begin(), m_scaled.end(), 0.0);
-  if (b.lpNorm<Eigen::Infinity>() == 0.0) return;
+  if (b.lpNorm<Eigen::Infinity>() == 0.0) {
+    m_scaled.setZero();
+    return;
+  }
   linear::SolveStats result;
   if (m_settings.solver == PressureSolver::Cholmod) {
     linear::CholmodSolver direct;
@@ -263,7 +280,8 @@ void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats
   stats.max_region_iterations = std::max(stats.max_region_iterations, result.iterations);
   stats.relative_residual = std::max(stats.relative_residual, result.relative_residual);
   stats.converged = stats.converged && result.converged;
-  for (int u = 0; u < n; ++u) m_scaled[m_box_cells[u]] = x[u];
+  if (!whole)
+    for (int u = 0; u < n; ++u) m_scaled[m_box_cells[u]] = x[u];
 }
 
 ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const DomainBoundary& boundary,
@@ -299,24 +317,22 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
   // Solve, update the faces, and measure; a PCG solve whose largest cell divergence is
   // still above tolerance × max|u| (its stopping test bounds the 2-norm against max|u*|)
   // is refined by projecting the remaining divergence (iterative refinement, warm start 0).
-  std::vector<double>& total = m_total;
-  total.assign(m_scaled.size(), 0.0);
+  Eigen::VectorXd total;  // the sum over the passes, from the second pass on
   double max_div = 0.0;
   double speed = 0.0;
   const int passes = m_settings.solver == PressureSolver::Pcg ? 3 : 1;
   for (int pass = 0; pass < passes; ++pass) {
     const double scale = std::max(mac.max_face_speed(), 1e-300);
-    if (pass > 0) std::fill(m_scaled.begin(), m_scaled.end(), 0.0);
+    if (pass == 1) total = m_scaled;
+    if (pass > 0) m_scaled.setZero();
     solve(mac, scale, stats);
     apply_pressure(mac);
-    const std::int64_t cells = static_cast<std::int64_t>(total.size());
-#pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < cells; ++i) total[i] += m_scaled[i];
+    if (pass > 0) total += m_scaled;
     max_div = max_cell_divergence(mac);
     speed = mac.max_face_speed();
     if (max_div <= m_settings.tolerance * speed) break;
   }
-  std::swap(m_scaled, total);
+  if (total.size() > 0) m_scaled.swap(total);
   stats.max_relative_divergence = speed > 0.0 ? max_div / speed : 0.0;
   const double to_pressure = m_grid.dx() / dt;
   auto& p = mac.pressure();
@@ -394,7 +410,7 @@ void PressureProjection::apply_pressure(MacGrid& mac) const {
 }
 
 double PressureProjection::max_cell_divergence(const MacGrid& mac) {
-  Eigen::VectorXd& flux = m_flux;
+  Eigen::VectorXd& flux = m_box_cells.empty() ? m_b : m_flux;
   cell_fluxes(mac, flux);
   if (m_surface != nullptr)
     for (Eigen::Index c = 0; c < flux.size(); ++c)

@@ -102,8 +102,8 @@ class CouplingPressure {
                         const FreeSurface* surface = nullptr);
 
   /// q = p Δt/(ρ Δx) of the last solve (the next initial guess; saved with the fluid).
-  std::vector<double>& scaled_pressure() { return m_scaled; }
-  const std::vector<double>& scaled_pressure() const { return m_scaled; }
+  Eigen::VectorXd& scaled_pressure() { return m_scaled; }
+  const Eigen::VectorXd& scaled_pressure() const { return m_scaled; }
 
  private:
   /// A face that the shells override: its velocity, and its coefficient β (0: Neumann).
@@ -173,7 +173,7 @@ class CouplingPressure {
   linear::GridLaplacian m_laplacian;            ///< face weights β
   linear::MultigridPreconditioner m_multigrid;  ///< McAdams et al. 2010 V-cycle
   std::shared_ptr<linear::PcgWorkspace> m_pcg_work;  ///< CG's vectors, kept between solves
-  std::vector<double> m_scaled;
+  Eigen::VectorXd m_scaled;
   // Step 3: per axis, the jump on the nodes and its validity; only touched entries are
   // non-zero between calls.
   /// Per node near a two-way shell: the jump from the faces of each axis about it.

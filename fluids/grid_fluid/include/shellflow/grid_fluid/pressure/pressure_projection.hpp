@@ -122,7 +122,7 @@ class PressureProjection {
   const std::vector<int>& region() const { return m_regions.region; }
   /// Scaled pressures p' = p Δt / Δx of the last projection (the next initial guess; part
   /// of the solver state for save/restore).
-  std::vector<double>& scaled_pressure() { return m_scaled; }
+  Eigen::VectorXd& scaled_pressure() { return m_scaled; }
   /// Whether region r has no Dirichlet face.
   bool enclosed(int r) const { return m_regions.enclosed[r] != 0; }
 
@@ -146,7 +146,8 @@ class PressureProjection {
   /// flux[c] = Σ over the six faces of cell c of u·n (= ∇·u Δx) [m/s]; 0 in a sealed
   /// cell, whose divergence a source sets (m_regions of this projection).
   void cell_fluxes(const MacGrid& mac, Eigen::VectorXd& flux) const;
-  /// max over cells |Σ u·n| (in m_flux's storage).
+  /// max over cells |Σ u·n| (in m_flux's storage; m_b's on a whole-grid box, where the
+  /// right-hand side is spent by then and m_flux is not used).
   double max_cell_divergence(const MacGrid& mac);
   /// Neighbour of cell `c` across its face (axis, side): the cell, or -1 outside.
   std::int64_t neighbour(const Eigen::Vector3i& c, int axis, int side) const;
@@ -161,17 +162,19 @@ class PressureProjection {
   ProjectionSettings m_settings;
   std::array<std::vector<std::uint8_t>, 3> m_neumann;
   FluidRegions m_regions;
-  std::vector<double> m_scaled;       ///< p' = p Δt / Δx, kept as the next initial guess
+  Eigen::VectorXd m_scaled;           ///< p' = p Δt / Δx, kept as the next initial guess
   linear::GridLaplacian m_laplacian;  ///< on the solve box
   Eigen::Vector3i m_box_lo = Eigen::Vector3i::Zero();
-  std::vector<std::int64_t> m_box_cells;   ///< grid cell of each unknown (box order)
+  /// Grid cell of each unknown (box order); empty when the box is the whole grid (smoke,
+  /// and water that fills its bounding box of the grid): unknown u is cell u.
+  std::vector<std::int64_t> m_box_cells;
+  std::int64_t box_cell(std::int64_t u) const { return m_box_cells.empty() ? u : m_box_cells[u]; }
   linear::ConstantNullSpace m_null_space;  ///< constants of the enclosed regions
   int m_enclosed_count = 0;
   std::vector<int> m_first_enclosed_cell;  ///< per enclosed group (CHOLMOD's pinned cell)
   linear::MultigridPreconditioner m_multigrid;
   std::shared_ptr<linear::PcgWorkspace> m_pcg_work;  ///< CG's vectors, kept between solves
-  Eigen::VectorXd m_flux, m_b, m_x;        ///< solve()'s, likewise
-  std::vector<double> m_total;             ///< project()'s sum over refinement passes
+  Eigen::VectorXd m_flux, m_b, m_x;        ///< solve()'s, likewise (m_flux, m_x: sub-boxes only)
   linear::SparseMatrix m_matrix;           ///< CSR form for MIC(0) and CHOLMOD
   const FreeSurface* m_surface = nullptr;  ///< during project() of a water scene
   std::vector<std::uint8_t> m_liquid;      ///< per cell, water scenes only
