@@ -414,7 +414,7 @@ CouplingPressure& GridFluid::coupling_pressure() {
     const auto& p = m_projection.settings();
     m_coupling = std::make_unique<CouplingPressure>(
         m_mac.grid(), CouplingSettings{m_density, m_coupling_tolerance, p.max_iterations},
-        m_projection.pcg_workspace());
+        m_projection.scratch());
   }
   return *m_coupling;
 }

@@ -89,8 +89,8 @@ void for_extras(const Level& level, int colour, F&& f) {
 /// on the unknowns of that colour; unknowns of one colour only read the other's.
 void half_sweep(const Level& level, int color) {
   const auto s = detail::stencil_of(level.cells);
-  float* x = level.x.data();
-  const float* b = level.b.data();
+  float* x = level.x;
+  const float* b = level.b;
   const float* inverse = level.inverse_diagonal.data();
   const bool links = level.has_links();
   with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
@@ -143,8 +143,8 @@ void sweep_row(const detail::CellStencil& s, const W* wx, const W* wy, const W* 
 /// Bit for bit the two half sweeps, with about half their memory traffic.
 void fused_sweep(const Level& level, int first, bool from_zero) {
   const auto s = detail::stencil_of(level.cells);
-  float* x = level.x.data();
-  const float* b = level.b.data();
+  float* x = level.x;
+  const float* b = level.b;
   const float* inverse = level.inverse_diagonal.data();
   const int second = 1 - first;
   with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
@@ -176,8 +176,8 @@ void near_shell_sweep(const Level& level, bool forward) {
   if (count == 0) return;
   const auto s = detail::stencil_of(level.cells);
   const int cells = level.size();
-  float* x = level.x.data();
-  const float* b = level.b.data();
+  float* x = level.x;
+  const float* b = level.b;
   const float* inverse = level.inverse_diagonal.data();
   with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
     for (int t = 0; t < count; ++t) {
@@ -202,8 +202,8 @@ void near_shell_sweep(const Level& level, bool forward) {
 /// The red half sweep from x = 0: x_u = b_u / A_uu on the red unknowns (black ones untouched).
 void first_red_sweep(const Level& level) {
   const Eigen::Vector3i n = level.cells;
-  float* x = level.x.data();
-  const float* b = level.b.data();
+  float* x = level.x;
+  const float* b = level.b;
   const float* inverse = level.inverse_diagonal.data();
 #pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
   for (int k = 0; k < n.z(); ++k)
@@ -217,9 +217,9 @@ void first_red_sweep(const Level& level) {
 /// r = b − A x on a level.
 void level_residual(const Level& level) {
   const auto s = detail::stencil_of(level.cells);
-  const float* x = level.x.data();
-  const float* b = level.b.data();
-  float* r = level.r.data();
+  const float* x = level.x;
+  const float* b = level.b;
+  float* r = level.r;
   const float* dirichlet = level.dirichlet.empty() ? nullptr : level.dirichlet.data();
   const bool links = level.has_links();
   with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
@@ -272,8 +272,8 @@ void restrict_residual(const Level& fine, const Level& coarse,
   const Eigen::Vector3i n = coarse.cells;
   const int fnx = fine.cells.x();
   const std::int64_t fplane = std::int64_t(fnx) * fine.cells.y();
-  const float* r = fine.r.data();
-  float* b = coarse.b.data();
+  const float* r = fine.r;
+  float* b = coarse.b;
 #pragma omp parallel if (parallel(fine))
   {
     std::vector<float> line(fnx);
@@ -310,8 +310,8 @@ void prolongate_add(const Level& coarse, const Level& fine,
   const Eigen::Vector3i n = fine.cells;
   const int cnx = coarse.cells.x();
   const std::int64_t cplane = std::int64_t(cnx) * coarse.cells.y();
-  const float* xc = coarse.x.data();
-  float* x = fine.x.data();
+  const float* xc = coarse.x;
+  float* x = fine.x;
 #pragma omp parallel if (parallel(fine))
   {
     std::vector<float> line(cnx);
@@ -339,17 +339,17 @@ void prolongate_add(const Level& coarse, const Level& fine,
   add_correction(fine.prolongation_correction, xc, x);
 }
 
-void zero(std::vector<float>& v, bool go) {
-  const std::int64_t n = static_cast<std::int64_t>(v.size());
-  float* p = v.data();
+void zero(float* p, std::int64_t n, bool go) {
 #pragma omp parallel for schedule(static) if (go)
   for (std::int64_t i = 0; i < n; ++i) p[i] = 0.0f;
 }
 
 }  // namespace
 
-MultigridPreconditioner::MultigridPreconditioner(MultigridSettings settings)
-    : m_settings(settings) {
+MultigridPreconditioner::MultigridPreconditioner(MultigridSettings settings,
+                                                 std::shared_ptr<MultigridScratch> scratch)
+    : m_settings(settings),
+      m_scratch(scratch ? std::move(scratch) : std::make_shared<MultigridScratch>()) {
   if (settings.smoothing_sweeps < 1 || settings.coarsest_sweeps < 1)
     throw Error("MultigridPreconditioner: smoothing_sweeps and coarsest_sweeps must be >= 1, got " +
                 std::to_string(settings.smoothing_sweeps) + " and " +
@@ -413,15 +413,23 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
   for (Level& level : m_levels) detail::find_near_shell(level, m_settings.near_shell_reach);
   m_levels.back().prolongation_correction.clear();
   m_levels.back().restriction_correction.clear();
-  for (Level& level : m_levels) {
-    const std::int64_t n = level.unknowns();
-    level.x.resize(n);
-    level.b.resize(n);
-    level.r.resize(n);
-  }
   m_fingerprint = fingerprint;
   m_built = true;
   ++m_builds;
+}
+
+void MultigridPreconditioner::bind_scratch() const {
+  auto& buffers = m_scratch->levels;
+  if (buffers.size() < m_levels.size()) buffers.resize(m_levels.size());
+  for (size_t l = 0; l < m_levels.size(); ++l) {
+    const Level& level = m_levels[l];
+    const size_t n = static_cast<size_t>(level.unknowns());
+    for (auto& v : buffers[l])
+      if (v.size() < n) v.resize(n);
+    level.x = buffers[l][0].data();
+    level.b = buffers[l][1].data();
+    level.r = buffers[l][2].data();
+  }
 }
 
 void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const {
@@ -429,12 +437,13 @@ void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z
     throw Error("MultigridPreconditioner::apply: " + std::to_string(r.size()) +
                 " entries for a hierarchy of " + std::to_string(size()) +
                 " cells (compute(A) first)");
+  bind_scratch();
   const int levels = static_cast<int>(m_levels.size());
   {
     const Level& fine = m_levels[0];
     const std::int64_t n = r.size();
     const double* rp = r.data();
-    float* b = fine.b.data();
+    float* b = fine.b;
 #pragma omp parallel for schedule(static) if (n >= kParallelThreshold)
     for (std::int64_t i = 0; i < n; ++i) b[i] = static_cast<float>(rp[i]);
   }
@@ -473,7 +482,7 @@ void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z
   // Coarsest: symmetric Gauss–Seidel (red, black, red) from zero.
   {
     const Level& level = m_levels[levels - 1];
-    zero(level.x, parallel(level));
+    zero(level.x, level.unknowns(), parallel(level));
     for (int s = 0; s < m_settings.coarsest_sweeps; ++s) {
       half_sweep(level, 0);
       half_sweep(level, 1);
@@ -498,7 +507,7 @@ void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z
   z.resize(r.size());
   const std::int64_t n = r.size();
   double* zp = z.data();
-  const float* x = fine.x.data();
+  const float* x = fine.x;
 #pragma omp parallel for schedule(static) if (n >= kParallelThreshold)
   for (std::int64_t i = 0; i < n; ++i) zp[i] = x[i];
 }

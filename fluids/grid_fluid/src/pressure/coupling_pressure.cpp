@@ -17,10 +17,11 @@ namespace shellflow::grid_fluid {
 using grid::Location;
 
 CouplingPressure::CouplingPressure(const grid::UniformGrid& grid, CouplingSettings settings,
-                                   std::shared_ptr<linear::PcgWorkspace> pcg_work)
+                                   SolveScratch scratch)
     : m_grid(grid),
       m_settings(settings),
-      m_pcg_work(pcg_work ? std::move(pcg_work) : std::make_shared<linear::PcgWorkspace>()) {
+      m_multigrid(linear::MultigridSettings{}, scratch.multigrid),
+      m_scratch(std::move(scratch)) {
   if (!(settings.fluid_density > 0.0))
     throw Error("CouplingPressure: the fluid density must be positive");
   for (int a = 0; a < 3; ++a) m_closed[a].assign(m_grid.size(face_location(a)), 0);
@@ -217,7 +218,7 @@ void CouplingPressure::solve(Eigen::VectorXd& b, double dt, const DomainBoundary
       m_bodies.empty() ? static_cast<const linear::LinearOperator&>(m_laplacian) : coupled;
   const auto result = linear::preconditioned_cg(
       op, m_multigrid, b, m_scaled, m_settings.tolerance, m_settings.max_iterations,
-      null_space.empty() ? nullptr : &null_space, m_pcg_work.get());
+      null_space.empty() ? nullptr : &null_space, m_scratch.pcg.get());
   stats.iterations = result.iterations;
   stats.relative_residual = result.relative_residual;
   stats.converged = result.converged;

@@ -13,10 +13,11 @@ namespace shellflow::grid_fluid {
 using grid::Location;
 
 PressureProjection::PressureProjection(const grid::UniformGrid& grid, ProjectionSettings settings,
-                                       std::shared_ptr<linear::PcgWorkspace> pcg_work)
+                                       SolveScratch scratch)
     : m_grid(grid),
       m_settings(settings),
-      m_pcg_work(pcg_work ? std::move(pcg_work) : std::make_shared<linear::PcgWorkspace>()) {
+      m_multigrid(linear::MultigridSettings{}, scratch.multigrid),
+      m_scratch(std::move(scratch)) {
   const std::int64_t cells = m_grid.size(Location::Cell);
   for (int a = 0; a < 3; ++a) m_neumann[a].assign(m_grid.size(face_location(a)), 0);
   m_scaled.setZero(cells);
@@ -268,7 +269,7 @@ void PressureProjection::solve(const MacGrid& mac, double scale, ProjectionStats
     if (m_settings.preconditioner == PressurePreconditioner::Multigrid) {
       result =
           linear::preconditioned_cg(m_laplacian, m_multigrid, b, x, tolerance,
-                                    m_settings.max_iterations, &m_null_space, m_pcg_work.get());
+                                    m_settings.max_iterations, &m_null_space, m_scratch.pcg.get());
     } else {
       linear::PcgMic0Solver pcg;
       pcg.compute(m_matrix);

@@ -40,11 +40,13 @@
 // operators, the V-cycle is a symmetric positive (semi)definite operator, so CG stays
 // valid (tests check <x, M^{-1} y> = <M^{-1} x, y>). It runs in single precision (the
 // preconditioner only needs a few digits; CG itself stays in double), every sweep with
-// OpenMP over (k, j) rows. Not thread safe: apply() works in the levels' buffers.
+// OpenMP over (k, j) rows. Not thread safe: apply() works in its scratch, which two
+// hierarchies that never apply at the same time may share (MultigridScratch).
 
 #include <Eigen/Core>
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include "shellflow/linear/grid_laplacian.hpp"
@@ -63,10 +65,18 @@ struct MultigridSettings {
   int near_shell_reach = 1;
 };
 
+/// The V-cycle's work vectors (iterate, right-hand side and residual of every level), grown
+/// to the largest hierarchy that uses them: the projection's and the §5.1 solve's
+/// hierarchies of one grid run one after the other and share one (25 MB at 128³).
+struct MultigridScratch {
+  std::vector<std::array<std::vector<float>, 3>> levels;
+};
+
 class MultigridPreconditioner final : public Preconditioner {
  public:
-  /// Throws shellflow::Error for sweeps < 1.
-  explicit MultigridPreconditioner(MultigridSettings settings = {});
+  /// Throws shellflow::Error for sweeps < 1. `scratch`: shared work vectors (null: own).
+  explicit MultigridPreconditioner(MultigridSettings settings = {},
+                                   std::shared_ptr<MultigridScratch> scratch = nullptr);
 
   /// Builds the level hierarchy of A (weights copied; buffers reused when the grid size
   /// does not change between calls). An A equal to the last one, bit for bit (its
@@ -130,7 +140,8 @@ class MultigridPreconditioner final : public Preconditioner {
     /// prolongation's correction by fine unknown, restriction's (its transpose) by coarse one.
     SparseRows prolongation_correction, restriction_correction;
 
-    mutable std::vector<float> x, b, r;  ///< iterate, right-hand side, residual
+    /// Iterate, right-hand side, residual: bound to the scratch by apply().
+    mutable float *x = nullptr, *b = nullptr, *r = nullptr;
 
     /// Unknowns near a shell, which get extra Gauss–Seidel sweeps (see near_shell_sweeps).
     std::vector<int> near_shell;
@@ -148,7 +159,11 @@ class MultigridPreconditioner final : public Preconditioner {
   };
 
  private:
+  /// Points the levels' x, b, r at the scratch (grown to fit first).
+  void bind_scratch() const;
+
   MultigridSettings m_settings;
+  std::shared_ptr<MultigridScratch> m_scratch;
   std::vector<Level> m_levels;
   std::uint64_t m_fingerprint = 0;  ///< of the operator the levels were built from
   bool m_built = false;

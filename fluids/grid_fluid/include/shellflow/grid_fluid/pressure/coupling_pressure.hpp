@@ -85,9 +85,9 @@ struct CouplingStats {
 
 class CouplingPressure {
  public:
-  /// `pcg_work`: CG's vectors, shared with the projection (null: own).
+  /// `scratch`: the work vectors, shared with the projection.
   CouplingPressure(const grid::UniformGrid& grid, CouplingSettings settings,
-                   std::shared_ptr<linear::PcgWorkspace> pcg_work = nullptr);
+                   SolveScratch scratch = {});
 
   const CouplingSettings& settings() const { return m_settings; }
 
@@ -172,7 +172,7 @@ class CouplingPressure {
   FluidRegions m_regions;
   linear::GridLaplacian m_laplacian;            ///< face weights β
   linear::MultigridPreconditioner m_multigrid;  ///< McAdams et al. 2010 V-cycle
-  std::shared_ptr<linear::PcgWorkspace> m_pcg_work;  ///< CG's vectors, kept between solves
+  SolveScratch m_scratch;                       ///< kept between solves
   Eigen::VectorXd m_scaled;
   // Step 3: per axis, the jump on the nodes and its validity; only touched entries are
   // non-zero between calls.
