@@ -211,7 +211,8 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
     m_initial_phi = m_liquid->level_set().phi();
   }
   m_probes = FluidProbes(params.at("probes"), "/probes", m_mac.grid());
-  m_nodes = NodeFields(m_mac.grid(), m_buoyancy.ambient_temperature, m_liquid == nullptr);
+  m_nodes = NodeFields(m_mac.grid(), m_buoyancy.ambient_temperature, m_liquid == nullptr,
+                       m_temperature);  // no temperature field unless a source sets one
   if (!m_prescribed) m_next = m_nodes;  // what the solved step advects into
   if (params.contains("initial_velocity") && !params.at("initial_velocity").is_null()) {
     // Faces only: advect() transfers them to the nodes before its first step (§4.2).

@@ -37,6 +37,17 @@ TEST(SmokeForces, BuoyancyIsMinusAlphaRhoPlusBetaTemperatureExcess) {
   h.temperature()[0] = 350.0;
   SmokeForces(g).add_buoyancy(h, 0.1, p, false);
   EXPECT_NEAR(h.velocity(2)[0], -0.1, 1e-15);
+  // A scene whose sources set no temperature stores none: its samples carry the ambient
+  // temperature, and buoyancy is −αρ alone whatever the flag says.
+  NodeFields cold(g, 300.0, true, false);
+  EXPECT_FALSE(cold.has_temperature());
+  EXPECT_EQ(cold.field_count(), 4);
+  cold.density()[0] = 2.0;
+  EXPECT_EQ(cold.sample(0)[4], 300.0);
+  cold.set(1, cold.sample(0));
+  EXPECT_EQ(cold.density()[1], 2.0);
+  SmokeForces(g).add_buoyancy(cold, 0.1, p, true);
+  EXPECT_NEAR(cold.velocity(2)[0], -0.1, 1e-15);
 }
 
 TEST(SmokeSource, CylinderSetsExactlyTheNodesWithinItsRadiusAndEnds) {

@@ -31,7 +31,7 @@ void SemiLagrangianAdvector::advect(const NodeFields& in, NodeFields& out, doubl
   const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
   const std::int64_t sy = nodes.x(), sz = std::int64_t(nodes.x()) * nodes.y();
   const std::array<std::int64_t, 8> corner_offset = node_corner_offsets(m_grid);
-  const int fields = in.has_smoke() ? 5 : 3;
+  const int fields = in.field_count();
   const double* field_in[5] = {in.velocity(0).data(), in.velocity(1).data(),
                                in.velocity(2).data(), in.density().data(),
                                in.temperature().data()};
@@ -56,10 +56,8 @@ void SemiLagrangianAdvector::advect(const NodeFields& in, NodeFields& out, doubl
         const Eigen::Vector3d object =
             shells.object_velocity(base, m_grid.position(Location::Node, index));
         for (int a = 0; a < 3; ++a) corner[a][c] = object[a];
-        if (fields == 5) {
-          corner[3][c] = 0.0;        // zero density behind a shell
-          corner[4][c] = m_ambient;  // ambient temperature behind a shell
-        }
+        if (fields >= 4) corner[3][c] = 0.0;        // zero density behind a shell
+        if (fields == 5) corner[4][c] = m_ambient;  // ambient temperature behind a shell
       }
     }
     for (int m = 0; m < fields; ++m) field_out[m][node] = trilinear(corner[m], st.fraction);

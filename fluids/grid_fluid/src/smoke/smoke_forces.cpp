@@ -10,14 +10,15 @@ using grid::Location;
 double SmokeForces::add_buoyancy(NodeFields& fields, double dt, const BuoyancyParameters& p,
                                  bool temperature) const {
   const std::int64_t n = fields.size();
-  const double beta = temperature ? p.temperature_beta : 0.0;
+  const double beta = temperature && fields.has_temperature() ? p.temperature_beta : 0.0;
   const Eigen::Vector3d up = p.up.normalized();
   double fmax = 0.0;
   auto& rho = fields.density();
   auto& T = fields.temperature();
 #pragma omp parallel for reduction(max : fmax)
   for (std::int64_t i = 0; i < n; ++i) {
-    const double f = -p.density_alpha * rho[i] + beta * (T[i] - p.ambient_temperature);
+    const double f =
+        -p.density_alpha * rho[i] + (beta != 0.0 ? beta * (T[i] - p.ambient_temperature) : 0.0);
     if (f == 0.0) continue;
     for (int a = 0; a < 3; ++a) fields.velocity(a)[i] += dt * f * up[a];
     fmax = std::max(fmax, std::abs(f));

@@ -22,9 +22,15 @@ class NodeFields {
   NodeFields() = default;
   /// Zero velocity and density, temperature `ambient_temperature` [K]. Without `smoke`
   /// (water) only the velocity is stored; samples carry zero density and temperature.
-  NodeFields(const grid::UniformGrid& grid, double ambient_temperature, bool smoke = true);
+  /// Without `temperature` (smoke whose sources set none) no temperature is stored and
+  /// samples carry the ambient one.
+  NodeFields(const grid::UniformGrid& grid, double ambient_temperature, bool smoke = true,
+             bool temperature = true);
 
   bool has_smoke() const { return !m_density.empty(); }
+  bool has_temperature() const { return !m_temperature.empty(); }
+  /// The stored fields, in NodeSample order: velocity, then density and temperature.
+  int field_count() const { return 3 + (has_smoke() ? 1 : 0) + (has_temperature() ? 1 : 0); }
 
   std::int64_t size() const { return static_cast<std::int64_t>(m_velocity[0].size()); }
   std::vector<double>& velocity(int axis) { return m_velocity[axis]; }
@@ -39,7 +45,7 @@ class NodeFields {
     NodeSample s;
     if (has_smoke()) {
       s << m_velocity[0][node], m_velocity[1][node], m_velocity[2][node], m_density[node],
-          m_temperature[node];
+          has_temperature() ? m_temperature[node] : m_ambient;
     } else {
       s << m_velocity[0][node], m_velocity[1][node], m_velocity[2][node], 0.0, 0.0;
     }
@@ -49,7 +55,7 @@ class NodeFields {
     for (int a = 0; a < 3; ++a) m_velocity[a][node] = s[a];
     if (!has_smoke()) return;
     m_density[node] = s[3];
-    m_temperature[node] = s[4];
+    if (has_temperature()) m_temperature[node] = s[4];
   }
   Eigen::Vector3d velocity_at(std::int64_t node) const {
     return {m_velocity[0][node], m_velocity[1][node], m_velocity[2][node]};
@@ -59,6 +65,7 @@ class NodeFields {
   std::array<std::vector<double>, 3> m_velocity;
   std::vector<double> m_density;
   std::vector<double> m_temperature;
+  double m_ambient = 0.0;  ///< the temperature of samples when none is stored
 };
 
 /// The cell of the node lattice holding a point (clamped into the grid), and the
