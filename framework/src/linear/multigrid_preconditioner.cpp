@@ -409,7 +409,19 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
   fine.link_weight.clear();
   fine.row_has_links.clear();
   detail::compute_inverse_diagonal(fine);
+  auto& lent = m_scratch->coarsening;
+  if (lent.size() < m_levels.size()) lent.resize(m_levels.size());
+  const auto swap_scratch = [&] {
+    for (size_t l = 0; l < m_levels.size(); ++l) {
+      m_levels[l].coarse_part.swap(lent[l].coarse_part);
+      m_levels[l].scratch_part.swap(lent[l].part);
+      m_levels[l].scratch_extra_start.swap(lent[l].extra_start);
+      m_levels[l].scratch_simple.swap(lent[l].simple);
+    }
+  };
+  swap_scratch();  // borrow
   for (size_t l = 1; l < m_levels.size(); ++l) detail::coarsen_level(m_levels[l - 1], m_levels[l]);
+  swap_scratch();  // and give back
   for (Level& level : m_levels) detail::find_near_shell(level, m_settings.near_shell_reach);
   m_levels.back().prolongation_correction.clear();
   m_levels.back().restriction_correction.clear();

@@ -221,7 +221,8 @@ void label_fluid_regions(const grid::UniformGrid& grid,
   out.cells.resize(out.start[regions]);
   if (regions == 1 && out.start[1] == cells) {
 #pragma omp parallel for schedule(static)
-    for (std::int64_t cell = 0; cell < cells; ++cell) out.cells[cell] = cell;
+    for (std::int64_t cell = 0; cell < cells; ++cell)
+      out.cells[cell] = static_cast<std::int32_t>(cell);
     return;
   }
   // In parallel over slabs of cells: each slab's share of a region follows the slabs before.
@@ -239,7 +240,8 @@ void label_fluid_regions(const grid::UniformGrid& grid,
 #pragma omp parallel for schedule(static, 1)
   for (int s = 0; s < slabs; ++s)
     for (std::int64_t cell = first_cell(s); cell < first_cell(s + 1); ++cell)
-      if (out.region[cell] >= 0) out.cells[fill[s][out.region[cell]]++] = cell;
+      if (out.region[cell] >= 0)
+        out.cells[fill[s][out.region[cell]]++] = static_cast<std::int32_t>(cell);
 }
 
 bool update_fluid_regions(const grid::UniformGrid& grid,

@@ -70,6 +70,13 @@ struct MultigridSettings {
 /// hierarchies of one grid run one after the other and share one (25 MB at 128³).
 struct MultigridScratch {
   std::vector<std::array<std::vector<float>, 3>> levels;
+  /// The coarsening's per-level scratch (Level::scratch_*, coarse_part), lent to the
+  /// levels while compute() builds them.
+  struct Coarsening {
+    std::vector<int> part, coarse_part, extra_start;
+    std::vector<std::uint8_t> simple;
+  };
+  std::vector<Coarsening> coarsening;
 };
 
 class MultigridPreconditioner final : public Preconditioner {
@@ -146,11 +153,11 @@ class MultigridPreconditioner final : public Preconditioner {
     /// Unknowns near a shell, which get extra Gauss–Seidel sweeps (see near_shell_sweeps).
     std::vector<int> near_shell;
 
-    /// Per unknown: the unknown of its part on the next coarser level (-1: inactive).
-    std::vector<int> coarse_part;
-    /// Scratch of the coarsening (part numbers within a cell, per-cell counts and offsets),
-    /// kept so that a compute() per step reuses the memory instead of faulting it in anew.
-    std::vector<int> scratch_part, scratch_extra_start;
+    /// Scratch of the coarsening, held only while compute() runs (MultigridScratch keeps
+    /// it between builds, so that a compute() per step reuses the memory): per unknown the
+    /// unknown of its part on the next coarser level (-1: inactive), part numbers within a
+    /// cell, per-cell counts and offsets.
+    std::vector<int> coarse_part, scratch_part, scratch_extra_start;
     std::vector<std::uint8_t> scratch_simple;
 
     int size() const { return cells.prod(); }

@@ -27,7 +27,9 @@ struct FluidRegions {
   /// source's to set (an emitter adds volume) and no solve can or should correct it.
   std::vector<std::uint8_t> sealed;
   std::vector<std::int64_t> start;  ///< CSR over the regions: cells of r are
-  std::vector<std::int64_t> cells;  ///< cells[start[r] .. start[r+1]), in cell order
+  /// cells[start[r] .. start[r+1]), in cell order (4 bytes a cell: the pressure solves
+  /// index cells with int, as linear::GridLaplacian does).
+  std::vector<std::int32_t> cells;
   /// Set by update_fluid_regions: the labelling's inputs when they allow keeping it.
   bool keyed = false;
   std::uint64_t key = 0;
