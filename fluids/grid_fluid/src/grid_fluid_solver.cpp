@@ -485,7 +485,7 @@ void GridFluid::project(double dt, sdk::ShellSet shells,
 
 void GridFluid::save(sdk::StateWriter& out) const {
   const auto write_vector = [&](const std::vector<double>& v) {
-    out.write_matrix(Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), v.size())));
+    out.write_column(v.data(), static_cast<std::int64_t>(v.size()));
   };
   out.write(m_time);
   for (int a = 0; a < 3; ++a) write_vector(m_mac.face_velocity(a));

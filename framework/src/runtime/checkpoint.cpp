@@ -48,7 +48,7 @@ fs::path checkpoint_folder(const fs::path& run_dir) {
 }
 
 fs::path write_checkpoint(const fs::path& run_dir, const CheckpointMeta& meta,
-                          const sdk::StateBuffer& state, int keep) {
+                          const std::function<void(sdk::StateWriter&)>& save, int keep) {
   const fs::path dir = checkpoint_folder(run_dir);
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -65,22 +65,35 @@ fs::path write_checkpoint(const fs::path& run_dir, const CheckpointMeta& meta,
                   {"metrics_rows", meta.metrics_rows}};
   const std::string text = j.dump();
   // Magic, the metadata and the state's length, then the state itself, then the checksum of
-  // all of it: the state goes to the file from where it is (a copy of a large grid's state
-  // would double the run's memory for the moment of the write).
+  // all of it. The state is measured first and then streamed to the file from where it
+  // lives: assembling it in memory would add a large grid's whole state to the run's peak.
+  sdk::StateSizes sizes;
+  {
+    sdk::StateWriter count(sizes);
+    save(count);
+  }
   sdk::StateBuffer head;
   sdk::StateWriter out(head);
   std::array<char, sizeof kMagic> magic;
   std::copy(std::begin(kMagic), std::end(kMagic), magic.begin());
   out.write(magic);
   out.write_bytes(sdk::StateBuffer(text.begin(), text.end()));
-  out.write<std::uint64_t>(state.size());
-  const std::uint64_t checksum =
-      fnv1a(state.data(), state.size(), fnv1a(head.data(), head.size()));
+  out.write<std::uint64_t>(sizes.bytes);
   sdk::write_file_atomically(file, [&](std::ostream& stream) {
     stream.write(reinterpret_cast<const char*>(head.data()),
                  static_cast<std::streamsize>(head.size()));
-    stream.write(reinterpret_cast<const char*>(state.data()),
-                 static_cast<std::streamsize>(state.size()));
+    std::uint64_t checksum = fnv1a(head.data(), head.size());
+    sdk::StateWriter state(
+        [&](const std::uint8_t* data, size_t n) {
+          stream.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(n));
+          checksum = fnv1a(data, n, checksum);
+        },
+        sizes);
+    save(state);
+    if (state.size() != sizes.bytes)
+      throw Error("checkpoint: the state changed length between the counting pass (" +
+                  std::to_string(sizes.bytes) + " bytes) and the write (" +
+                  std::to_string(state.size()) + ")");
     stream.write(reinterpret_cast<const char*>(&checksum), sizeof checksum);
   });
 

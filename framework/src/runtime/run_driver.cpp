@@ -377,17 +377,9 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
     sdk::write_file_atomically(run_json, [&](std::ostream& out) { out << run.dump(2) << "\n"; });
   };
 
-  // The last checkpoint's size, reserved for the next: its buffer then grows in place, not
-  // by copies that hold the state one and a half times over for a moment.
-  size_t checkpoint_bytes = 0;
   // The whole state, with the counters a resumed run starts from (`next_frame`: the frame
   // the loop works on next, the current one when stopped within it).
   const auto save_checkpoint = [&](int next_frame) {
-    sdk::StateBuffer state;
-    state.reserve(checkpoint_bytes + checkpoint_bytes / 16);
-    sdk::StateWriter out(state);
-    loop.save(out);
-    checkpoint_bytes = state.size();
     CheckpointMeta meta;
     meta.step = summary.steps;
     meta.next_frame = next_frame;
@@ -395,7 +387,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
     meta.frames_written = summary.frames_written;
     meta.last_frame = summary.last_frame;
     meta.metrics_rows = summary.steps;  // one row per step
-    write_checkpoint(summary.out_dir, meta, state);
+    write_checkpoint(summary.out_dir, meta, [&](sdk::StateWriter& out) { loop.save(out); });
   };
 
   try {

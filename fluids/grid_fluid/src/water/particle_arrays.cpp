@@ -52,7 +52,7 @@ sdk::ParticleView ParticleArrays::view(const std::string& name) const {
 
 void ParticleArrays::save(sdk::StateWriter& out) const {
   const auto write = [&](const std::vector<double>& v) {
-    out.write_matrix(Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), v.size())));
+    out.write_column(v.data(), static_cast<std::int64_t>(v.size()));
   };
   for (int a = 0; a < 3; ++a) write(position[a]);
   for (int a = 0; a < 3; ++a) write(velocity[a]);

@@ -674,7 +674,7 @@ void ParticleLevelSet::reseed_if_due(double t, const LevelSet& phi, const ShellG
 
 void ParticleLevelSet::save(sdk::StateWriter& out) const {
   const auto write = [&](const std::vector<double>& v) {
-    out.write_matrix(Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(v.data(), v.size())));
+    out.write_column(v.data(), static_cast<std::int64_t>(v.size()));
   };
   out.write(m_round);
   out.write(m_last_frame);

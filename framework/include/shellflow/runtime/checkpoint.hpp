@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -41,9 +42,12 @@ struct Checkpoint {
 std::filesystem::path checkpoint_folder(const std::filesystem::path& run_dir);
 
 /// Writes checkpoints/step_<step>.ckpt atomically, then removes all but the `keep` newest.
-/// @throw IoError naming the file.
+/// The state is what `save` writes: it runs twice, once counting (sdk::StateSizes) and
+/// once streaming to the file, so the state is never assembled in memory (336 MB for
+/// Fig. 2 at the paper's size). @throw IoError naming the file.
 std::filesystem::path write_checkpoint(const std::filesystem::path& run_dir,
-                                       const CheckpointMeta& meta, const sdk::StateBuffer& state,
+                                       const CheckpointMeta& meta,
+                                       const std::function<void(sdk::StateWriter&)>& save,
                                        int keep = 2);
 
 /// The checkpoint files of a run, newest (highest step) first.
