@@ -295,7 +295,9 @@ TEST(MultigridPreconditioner, FreeSurfaceDirichletCellsKeepTheCycleSymmetricAndE
   EXPECT_NEAR(x.dot(my), mx.dot(y), 1e-5 * x.norm() * my.norm());
   EXPECT_GT(x.dot(mx), 0.0);
   for (int c = 0; c < a.size(); ++c)
-    if ((c / n) % n >= h) EXPECT_EQ(mx[c], 0.0) << "air cell " << c;
+    if ((c / n) % n >= h) {
+      EXPECT_EQ(mx[c], 0.0) << "air cell " << c;
+    }
 
   const Eigen::VectorXd b = x;
   Eigen::VectorXd p = Eigen::VectorXd::Zero(a.size());
