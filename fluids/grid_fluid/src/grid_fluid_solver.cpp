@@ -484,7 +484,8 @@ void GridFluid::project(double dt, sdk::ShellSet shells,
 }
 
 void GridFluid::save(sdk::StateWriter& out) const {
-  const auto write_vector = [&](const std::vector<double>& v) {
+  // Any contiguous array of doubles (std::vector, Eigen::VectorXd), as a column.
+  const auto write_vector = [&](const auto& v) {
     out.write_column(v.data(), static_cast<std::int64_t>(v.size()));
   };
   out.write(m_time);
@@ -493,9 +494,9 @@ void GridFluid::save(sdk::StateWriter& out) const {
   write_vector(m_nodes.density());
   write_vector(m_nodes.temperature());
   for (int a = 0; a < 3; ++a) write_vector(m_nodes.velocity(a));
-  out.write_matrix(const_cast<PressureProjection&>(m_projection).scaled_pressure());
+  write_vector(m_projection.scaled_pressure());
   out.write(m_coupling != nullptr);
-  if (m_coupling) out.write_matrix(m_coupling->scaled_pressure());
+  if (m_coupling) write_vector(m_coupling->scaled_pressure());
   if (m_liquid) {
     write_vector(m_liquid->level_set().phi());
     m_liquid->particles().save(out);
@@ -508,19 +509,13 @@ void GridFluid::save(sdk::StateWriter& out) const {
 }
 
 void GridFluid::restore(sdk::StateReader& in) {
-  const auto read_vector = [&](std::vector<double>& v) {
+  // Into any contiguous array of doubles, which keeps its size.
+  const auto read_vector = [&](auto& v) {
     Eigen::VectorXd m;
     in.read_matrix(m);
-    if (static_cast<size_t>(m.size()) != v.size())
+    if (static_cast<size_t>(m.size()) != static_cast<size_t>(v.size()))
       throw Error("grid_fluid restore(): the saved state is for another grid size");
-    std::copy(m.data(), m.data() + m.size(), v.begin());
-  };
-  const auto read_scaled = [&](Eigen::VectorXd& v) {
-    Eigen::VectorXd m;
-    in.read_matrix(m);
-    if (m.size() != v.size())
-      throw Error("grid_fluid restore(): the saved state is for another grid size");
-    v.swap(m);
+    std::copy(m.data(), m.data() + m.size(), v.data());
   };
   m_time = in.read<double>();
   for (int a = 0; a < 3; ++a) read_vector(m_mac.face_velocity(a));
@@ -528,8 +523,8 @@ void GridFluid::restore(sdk::StateReader& in) {
   read_vector(m_nodes.density());
   read_vector(m_nodes.temperature());
   for (int a = 0; a < 3; ++a) read_vector(m_nodes.velocity(a));
-  read_scaled(m_projection.scaled_pressure());
-  if (in.read<bool>()) read_scaled(coupling_pressure().scaled_pressure());
+  read_vector(m_projection.scaled_pressure());
+  if (in.read<bool>()) read_vector(coupling_pressure().scaled_pressure());
   if (m_liquid) {
     read_vector(m_liquid->level_set().phi());
     m_liquid->particles().restore(in);

@@ -685,14 +685,17 @@ void find_near_shell(Level& level, int reach) {
   for (int a = 0; a < 3; ++a)
     for (int step = 0; step < reach; ++step) {
       const int stride = a == 0 ? 1 : a == 1 ? n.x() : n.x() * n.y();
-#pragma omp parallel for schedule(static) if (g.cells >= kParallelThreshold)
-      for (int cell = 0; cell < g.cells; ++cell) {
-        const int along = g.coords(cell)[a];
-        std::uint8_t v = seed[cell];
-        if (along > 0) v |= seed[cell - stride];
-        if (along + 1 < n[a]) v |= seed[cell + stride];
-        next[cell] = v;
-      }
+#pragma omp parallel for collapse(2) schedule(static) if (g.cells >= kParallelThreshold)
+      for (int z = 0; z < n.z(); ++z)
+        for (int y = 0; y < n.y(); ++y)
+          for (int x = 0; x < n.x(); ++x) {
+            const int cell = x + n.x() * (y + n.y() * z);
+            const int along = a == 0 ? x : a == 1 ? y : z;
+            std::uint8_t v = seed[cell];
+            if (along > 0) v |= seed[cell - stride];
+            if (along + 1 < n[a]) v |= seed[cell + stride];
+            next[cell] = v;
+          }
       seed.swap(next);
     }
   for (int cell = 0; cell < g.cells; ++cell) {

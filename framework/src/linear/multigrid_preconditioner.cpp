@@ -85,6 +85,23 @@ void for_extras(const Level& level, int colour, F&& f) {
     if (colour < 0 || colour_of_cell(level, level.extra_cell[e]) == colour) f(cells + e);
 }
 
+/// The cells of colour `color` on row (j, k) of a level without extra parts:
+/// x_u = (b_u + Σ w x_nb) / A_uu, or x_u = b_u / A_uu when `from_zero` (x = 0 elsewhere).
+template <class W>
+void sweep_row(const detail::CellStencil& s, const W* wx, const W* wy, const W* wz, float* x,
+               const float* b, const float* inverse, int j, int k, int color, bool from_zero,
+               float* sum, const float* zeros) {
+  const std::int64_t row = s.cell_row(j, k);
+  const int first = (j + k + color) & 1;
+  if (from_zero) {
+    for (int i = first; i < s.nx; i += 2) x[row + i] = b[row + i] * inverse[row + i];
+    return;
+  }
+  detail::row_sums(s, wx, wy, wz, static_cast<const float*>(x), zeros, j, k, sum,
+                   static_cast<float*>(nullptr));
+  for (int i = first; i < s.nx; i += 2) x[row + i] = (b[row + i] + sum[i]) * inverse[row + i];
+}
+
 /// One red (color 0) or black (color 1) Gauss–Seidel half sweep: x_u = (b_u + Σ w x_nb) / A_uu
 /// on the unknowns of that colour; unknowns of one colour only read the other's.
 void half_sweep(const Level& level, int color) {
@@ -102,37 +119,19 @@ void half_sweep(const Level& level, int color) {
 #pragma omp for collapse(2) schedule(static)
       for (int k = 0; k < s.nz; ++k)
         for (int j = 0; j < s.ny; ++j) {
+          if (!links || level.row_has_links[j + std::int64_t(s.ny) * k] == 0) {
+            sweep_row(s, wx, wy, wz, x, b, inverse, j, k, color, false, sum.data(), zeros.data());
+            continue;
+          }
           detail::row_sums(s, wx, wy, wz, static_cast<const float*>(x), zeros.data(), j, k,
                            sum.data(), static_cast<float*>(nullptr));
           const std::int64_t row = s.cell_row(j, k);
-          if (links && level.row_has_links[j + std::int64_t(s.ny) * k] != 0) {
-            for (int i = (j + k + color) & 1; i < s.nx; i += 2)
-              x[row + i] = (b[row + i] + sum[i] + link_sum(level, row + i, x)) * inverse[row + i];
-          } else {
-            for (int i = (j + k + color) & 1; i < s.nx; i += 2)
-              x[row + i] = (b[row + i] + sum[i]) * inverse[row + i];
-          }
+          for (int i = (j + k + color) & 1; i < s.nx; i += 2)
+            x[row + i] = (b[row + i] + sum[i] + link_sum(level, row + i, x)) * inverse[row + i];
         }
     }
   });
   for_extras(level, color, [&](int u) { x[u] = (b[u] + link_sum(level, u, x)) * inverse[u]; });
-}
-
-/// The cells of colour `color` on row (j, k) of a level without extra parts:
-/// x_u = (b_u + Σ w x_nb) / A_uu, or x_u = b_u / A_uu when `from_zero` (x = 0 elsewhere).
-template <class W>
-void sweep_row(const detail::CellStencil& s, const W* wx, const W* wy, const W* wz, float* x,
-               const float* b, const float* inverse, int j, int k, int color, bool from_zero,
-               float* sum, const float* zeros) {
-  const std::int64_t row = s.cell_row(j, k);
-  const int first = (j + k + color) & 1;
-  if (from_zero) {
-    for (int i = first; i < s.nx; i += 2) x[row + i] = b[row + i] * inverse[row + i];
-    return;
-  }
-  detail::row_sums(s, wx, wy, wz, static_cast<const float*>(x), zeros, j, k, sum,
-                   static_cast<float*>(nullptr));
-  for (int i = first; i < s.nx; i += 2) x[row + i] = (b[row + i] + sum[i]) * inverse[row + i];
 }
 
 /// The half sweep of colour `first` and then the other one's on a level without extra
@@ -201,16 +200,16 @@ void near_shell_sweep(const Level& level, bool forward) {
 
 /// The red half sweep from x = 0: x_u = b_u / A_uu on the red unknowns (black ones untouched).
 void first_red_sweep(const Level& level) {
-  const Eigen::Vector3i n = level.cells;
+  const auto s = detail::stencil_of(level.cells);
   float* x = level.x;
   const float* b = level.b;
   const float* inverse = level.inverse_diagonal.data();
+  with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
 #pragma omp parallel for collapse(2) schedule(static) if (parallel(level))
-  for (int k = 0; k < n.z(); ++k)
-    for (int j = 0; j < n.y(); ++j) {
-      const std::int64_t row = std::int64_t(n.x()) * (j + std::int64_t(n.y()) * k);
-      for (int i = (j + k) & 1; i < n.x(); i += 2) x[row + i] = b[row + i] * inverse[row + i];
-    }
+    for (int k = 0; k < s.nz; ++k)
+      for (int j = 0; j < s.ny; ++j)
+        sweep_row(s, wx, wy, wz, x, b, inverse, j, k, 0, true, nullptr, nullptr);
+  });
   for_extras(level, 0, [&](int u) { x[u] = b[u] * inverse[u]; });
 }
 

@@ -52,17 +52,18 @@ SweptRefillStats SweptRefill::run(const ShellGeometry& start, const ShellGeometr
   const geometry::GaussJacobiRefill refill(m_grid, Location::Node);
   const Eigen::Vector3i n = m_grid.counts(Location::Node);
   const std::int64_t stride[3] = {1, n.x(), std::int64_t{n.x()} * n.y()};
+  const auto copy = [&](std::int64_t node) {
+    if (!m_scratch.contains(node)) m_scratch.insert(node, fields.sample(node));
+  };
   for (const std::int64_t i : m_invalid_list) {
     m_node_valid[i] = 0;
     m_node_valid_before[i] = 0;
-    m_scratch.insert(i, fields.sample(i));
+    copy(i);
     const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, i);
     for (int axis = 0; axis < 3; ++axis)
       for (const int side : {-1, 1}) {
         const int c = ijk[axis] + side;
-        if (c < 0 || c >= n[axis]) continue;
-        const std::int64_t j = i + side * stride[axis];
-        if (!m_scratch.contains(j)) m_scratch.insert(j, fields.sample(j));
+        if (c >= 0 && c < n[axis]) copy(i + side * stride[axis]);
       }
   }
   const auto& caster = end.caster();

@@ -130,6 +130,7 @@ class PressureProjection {
   /// Scaled pressures p' = p Δt / Δx of the last projection (the next initial guess; part
   /// of the solver state for save/restore).
   Eigen::VectorXd& scaled_pressure() { return m_scaled; }
+  const Eigen::VectorXd& scaled_pressure() const { return m_scaled; }
   /// Whether region r has no Dirichlet face.
   bool enclosed(int r) const { return m_regions.enclosed[r] != 0; }
 
