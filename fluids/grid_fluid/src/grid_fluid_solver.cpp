@@ -319,6 +319,10 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   build_band(shells_n, shells_np1, m_advector.band_margin(dt, speed));
   const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
   m_stats.band_nodes = band ? static_cast<std::int64_t>(band->samples(Location::Node).size()) : 0;
+  // The volume water_volume_change counts from: measured as water_volume is, against the
+  // shells of the first step (a film on a shell counts only with them).
+  if (m_liquid && !m_liquid->initial_volume_measured())
+    m_liquid->measure_initial_volume(&geom_n, band);
 
   if (m_prescribed) {
     // The field at the middle of the step carries φ and the particles; nothing else moves.
@@ -506,6 +510,7 @@ void GridFluid::save(sdk::StateWriter& out) const {
   // would choose another step than the run it continues.
   out.write(m_shell_speed);
   out.write(m_stats.max_force);
+  if (m_liquid) out.write(m_liquid->initial_volume());
 }
 
 void GridFluid::restore(sdk::StateReader& in) {
@@ -531,6 +536,9 @@ void GridFluid::restore(sdk::StateReader& in) {
   }
   m_shell_speed = in.read<double>();
   m_stats.max_force = in.read<double>();
+  // Last, so that a state saved before it was written still restores (the scene's
+  // volume then stands in, measured without the shells).
+  if (m_liquid && !in.at_end()) m_liquid->set_initial_volume(in.read<double>());
   m_geometry_n.reset();
   m_geometry_np1.reset();
   m_nodes_current = false;
@@ -642,7 +650,7 @@ void GridFluid::report(sdk::Metrics& out) const {
   out.set("smoke_nodes", static_cast<double>(m_nodes.density().size()));
   if (m_liquid) {
     const auto& w = m_liquid->stats();
-    const double volume = m_liquid->level_set().volume();
+    const double volume = m_liquid->volume(m_geometry_np1.get(), m_band_used ? &m_band : nullptr);
     out.set("water_volume", volume);
     out.set("water_volume_change", volume - m_liquid->initial_volume());
     if (m_prescribed)

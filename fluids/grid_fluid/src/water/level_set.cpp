@@ -1,9 +1,12 @@
 #include "shellflow/grid_fluid/water/level_set.hpp"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <numbers>
 #include <stdexcept>
+#include <utility>
 
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/mac/ordered_sum.hpp"
@@ -153,7 +156,79 @@ double cell_fraction(const double* phi, std::int64_t base,
   return sum / 6.0;
 }
 
+/// A tetrahedron: its corners (in cell units) and a linear field's values there.
+struct Tetrahedron {
+  std::array<Eigen::Vector3d, 4> x;
+  std::array<double, 4> phi;
+};
+
+double tetrahedron_volume(const Tetrahedron& t) {
+  return std::abs((t.x[1] - t.x[0]).dot((t.x[2] - t.x[0]).cross(t.x[3] - t.x[0]))) / 6.0;
+}
+
+/// The volume of t where the linear field `side` (values at t's corners) is below zero,
+/// and its φ below zero there: t cut by side's plane into tetrahedra (a corner one, or a
+/// prism of three), each measured by tetrahedron_water_fraction.
+double water_below_plane(const Tetrahedron& t, const std::array<double, 4>& side) {
+  std::array<int, 4> in{}, out{};
+  int n_in = 0, n_out = 0;
+  for (int v = 0; v < 4; ++v) (side[v] < 0.0 ? in[n_in++] : out[n_out++]) = v;
+  const auto water = [](const Tetrahedron& p) {
+    return tetrahedron_volume(p) * tetrahedron_water_fraction(p.phi);
+  };
+  if (n_in == 0) return 0.0;
+  if (n_in == 4) return water(t);
+  // The point of edge (a, b) on the plane, with φ there.
+  const auto on_plane = [&](int a, int b) {
+    const double s = side[a] / (side[a] - side[b]);
+    return std::pair{t.x[a] + s * (t.x[b] - t.x[a]), t.phi[a] + s * (t.phi[b] - t.phi[a])};
+  };
+  const auto tet = [](std::initializer_list<std::pair<Eigen::Vector3d, double>> v) {
+    Tetrahedron r;
+    int k = 0;
+    for (const auto& [x, f] : v) r.x[k] = x, r.phi[k++] = f;
+    return r;
+  };
+  const auto corner = [&](int v) { return std::pair{t.x[v], t.phi[v]}; };
+  if (n_in == 1) {
+    const int a = in[0];
+    return water(tet({corner(a), on_plane(a, out[0]), on_plane(a, out[1]), on_plane(a, out[2])}));
+  }
+  if (n_in == 2) {
+    const auto a = corner(in[0]), b = corner(in[1]);
+    const auto ac = on_plane(in[0], out[0]), ad = on_plane(in[0], out[1]);
+    const auto bc = on_plane(in[1], out[0]), bd = on_plane(in[1], out[1]);
+    return water(tet({a, ac, ad, b})) + water(tet({ac, ad, b, bc})) + water(tet({ad, b, bc, bd}));
+  }
+  // Three in: the prism between their face and where their edges to the fourth cross.
+  const int d = out[0];
+  const auto a = corner(in[0]), b = corner(in[1]), c = corner(in[2]);
+  const auto ad = on_plane(in[0], d), bd = on_plane(in[1], d), cd = on_plane(in[2], d);
+  return water(tet({a, b, c, ad})) + water(tet({b, c, ad, bd})) + water(tet({c, ad, bd, cd}));
+}
+
 }  // namespace
+
+double LevelSet::two_sided_cell_fraction(const std::array<double, 8>& phi_below,
+                                         const std::array<double, 8>& phi_above,
+                                         const std::array<double, 8>& side) {
+  double sum = 0.0;
+  for (const auto& k : kCubeTetrahedra) {
+    Tetrahedron below, above;
+    std::array<double, 4> s, minus_s;
+    for (int v = 0; v < 4; ++v) {
+      const int c = k[v];
+      const Eigen::Vector3d x(c & 1, (c >> 1) & 1, c >> 2);
+      below.x[v] = above.x[v] = x;
+      below.phi[v] = phi_below[c];
+      above.phi[v] = phi_above[c];
+      s[v] = side[c];
+      minus_s[v] = -side[c];
+    }
+    sum += water_below_plane(below, s) + water_below_plane(above, minus_s);
+  }
+  return sum;
+}
 
 double LevelSet::volume() const {
   const Eigen::Vector3i n = m_grid.cells();

@@ -16,6 +16,11 @@ using grid::Location;
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
+
+/// Corner c's offset from its cell's corner 0 (bit 0: +x, bit 1: +y, bit 2: +z).
+Eigen::Vector3i corner_step(int c) {
+  return Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
+}
 }  // namespace
 
 void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velocity, double dt,
@@ -86,9 +91,13 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
             if (node_range) node_range[0] = lo, node_range[1] = hi;
             continue;
           }
-          // §4.1 clipped ray, then one secondary ray per cell node (§4.4.1).
+          // §4.1 clipped ray, then one secondary ray per cell node (§4.4.1). A ray the
+          // shell cut short came from the shell itself, so its node takes what lies at the
+          // shell, continued constantly: continued linearly, a field flowing off a shell
+          // steepened its own slope step after step and made water behind it.
+          const Eigen::Vector3d base = shells.clip(x, departure, eps_prime);
           const std::optional<double> v =
-              sample_visible(in, shells.clip(x, departure, eps_prime), shells, node_range);
+              sample_visible(in, base, shells, node_range, base == departure);
           if (!v) {
             out[node] = in[node];
             mine.push_back(node);
@@ -100,41 +109,65 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
   for (const auto& list : per_thread) invalid.insert(invalid.end(), list.begin(), list.end());
 }
 
-std::optional<double> LevelSetAdvector::sample_visible(std::span<const double> phi,
-                                                       const Eigen::Vector3d& base,
-                                                       const ShellGeometry& shells,
-                                                       double* range) const {
-  const NodeStencil st = node_stencil(m_grid, base);
-  double value[8];
+unsigned LevelSetAdvector::seen_corner_values(std::span<const double> phi, const Eigen::Vector3d& p,
+                                              const NodeStencil& st, const ShellGeometry& shells,
+                                              double value[8], bool linear) const {
   unsigned visible = 0;
   for (int c = 0; c < 8; ++c) {
     const std::int64_t corner = st.corner(m_grid, c);
     value[c] = phi[corner];
-    if (shells.visible(base, m_grid.position(Location::Node, corner))) visible |= 1u << c;
+    if (shells.visible(p, m_grid.position(Location::Node, corner))) visible |= 1u << c;
   }
-  if (visible == 0) return std::nullopt;
+  if (visible == 0 || visible == 0xffu) return visible;
+  const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
+  double ghost[8];
+  for (int c = 0; c < 8; ++c) {
+    if ((visible >> c & 1u) != 0) continue;
+    // p's side continued linearly across the shell: through each visible corner d of the
+    // nearest ring (an edge, then a face diagonal, then the cell's diagonal away) whose
+    // mirror node 2d − c beyond it is seen from p too, 2φ(d) − φ(2d − c), averaged. A film
+    // thinner than the shell's distance to the next row of nodes has no wet node on its
+    // side; the dry node above it holds less than its distance to the shell, and this
+    // continuation is what says the water is there.
+    const Eigen::Vector3i node = st.base + corner_step(c);
+    double sum = 0.0;
+    int terms = 0;
+    for (int ring = 1; ring <= 3 && terms == 0 && linear; ++ring)
+      for (int d = 0; d < 8; ++d) {
+        if ((visible >> d & 1u) == 0 || std::popcount(unsigned(c ^ d)) != ring) continue;
+        const Eigen::Vector3i mirror = 2 * (st.base + corner_step(d)) - node;
+        if ((mirror.array() < 0).any() || (mirror.array() >= nodes.array()).any()) continue;
+        if (!shells.visible(p, m_grid.position(Location::Node, mirror))) continue;
+        sum += 2.0 * value[d] - phi[m_grid.index(Location::Node, mirror)];
+        ++terms;
+      }
+    // No such line (the grid's edge, or other shells): the mean of its nearest ring of
+    // visible corners (constant continuation).
+    for (int ring = 1; ring <= 3 && terms == 0; ++ring)
+      for (int d = 0; d < 8; ++d)
+        if ((visible >> d & 1u) != 0 && std::popcount(unsigned(c ^ d)) == ring) {
+          sum += value[d];
+          ++terms;
+        }
+    ghost[c] = sum / terms;
+  }
+  for (int c = 0; c < 8; ++c)
+    if ((visible >> c & 1u) == 0) value[c] = ghost[c];
+  return visible;
+}
+
+std::optional<double> LevelSetAdvector::sample_visible(std::span<const double> phi,
+                                                       const Eigen::Vector3d& base,
+                                                       const ShellGeometry& shells, double* range,
+                                                       bool linear) const {
+  const NodeStencil st = node_stencil(m_grid, base);
+  double value[8];
+  if (seen_corner_values(phi, base, st, shells, value, linear) == 0) return std::nullopt;
   double v = 0.0, lo = kInf, hi = -kInf;
   for (int c = 0; c < 8; ++c) {
-    double p = value[c];
-    if ((visible >> c & 1u) == 0) {
-      // Rings of the cell around corner c: corners differing in 1, 2, then 3 bits.
-      for (int ring = 1; ring <= 3; ++ring) {
-        double sum = 0.0;
-        int terms = 0;
-        for (int d = 0; d < 8; ++d)
-          if ((visible >> d & 1u) != 0 && std::popcount(unsigned(c ^ d)) == ring) {
-            sum += value[d];
-            ++terms;
-          }
-        if (terms > 0) {
-          p = sum / terms;
-          break;
-        }
-      }
-    }
-    v += st.weight(c) * p;
-    lo = std::min(lo, p);
-    hi = std::max(hi, p);
+    v += st.weight(c) * value[c];
+    lo = std::min(lo, value[c]);
+    hi = std::max(hi, value[c]);
   }
   if (range) range[0] = lo, range[1] = hi;
   return v;

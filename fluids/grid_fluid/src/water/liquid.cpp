@@ -1,7 +1,9 @@
 #include "shellflow/grid_fluid/water/liquid.hpp"
 
 #include <cmath>
+#include <limits>
 
+#include "shellflow/grid_fluid/mac/ordered_sum.hpp"
 #include "shellflow/grid_fluid/water/initial_water.hpp"
 #include "shellflow/sdk/error.hpp"
 
@@ -10,6 +12,8 @@ namespace shellflow::grid_fluid {
 using grid::Location;
 
 namespace {
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -181,7 +185,10 @@ const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::
     // in they made the first cell of water on a shell air, p = 0: a drain (§4.3). Pairs of
     // opposite corners, both seen, come first: each pair's mean is exact at the centre for
     // a linear φ, so a still surface cut by a shell keeps its height; with no such pair,
-    // the mean of the corners seen.
+    // the mean of the corners seen. (The advection's linear continuation across the shell
+    // was tried here too: the shaken cup of verify/water_sloshing_cup then drained, −24%
+    // in 3 s against −5%, since water nodes held against a moving wall keep a small |φ|,
+    // which that continuation reads as the water ending at the wall.)
     const grid::UniformGrid& grid = m_level_set.grid();
     const auto& phi = m_level_set.phi();
     const auto list = band->samples(Location::Cell);
@@ -219,6 +226,62 @@ const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::
   }
   m_surface.cell_phi = m_cell_phi;
   return m_surface;
+}
+
+double Liquid::volume(const ShellGeometry* shells, const geometry::ShellBand* band) const {
+  const double whole = m_level_set.volume();
+  if (shells == nullptr || shells->empty() || band == nullptr) return whole;
+  // Each cell a shell cuts counts each side's water with that side's φ (its corners
+  // across the shell continued linearly, seen_corner_values), split by the plane of the
+  // shell point nearest its centre: a film on a shell thinner than the shell's distance
+  // to the next row of nodes holds no wet node, and the one-φ measure missed it.
+  const grid::UniformGrid& grid = m_level_set.grid();
+  const auto& phi = m_level_set.phi();
+  const double dx = grid.dx();
+  const auto list = band->samples(Location::Cell);
+  const std::int64_t m = static_cast<std::int64_t>(list.size());
+  const double correction = ordered_sum(m, [&](std::int64_t s) -> double {
+    const Eigen::Vector3i c = grid.coordinates(Location::Cell, list[s]);
+    const Eigen::Vector3d centre = grid.position(Location::Cell, c);
+    NodeStencil st;
+    st.base = c;
+    st.fraction = Eigen::Vector3d::Constant(0.5);
+    std::array<double, 8> own, seen, across, side;
+    double lowest = kInfinity, highest = -kInfinity;
+    for (int k = 0; k < 8; ++k) {
+      own[k] = phi[st.corner(grid, k)];
+      lowest = std::min(lowest, own[k]);
+      highest = std::max(highest, own[k]);
+    }
+    // φ changes by at most √3Δx from a corner to its mirror node, so a continuation keeps
+    // the sign of corners all that far from the surface: both sides dry, or both wet.
+    const double reach = std::sqrt(3.0) * dx;
+    if (lowest > reach || highest < -reach) return 0.0;
+    int far_corner = -1;
+    for (int k = 0; k < 8 && far_corner < 0; ++k)
+      if (!shells->visible(centre, grid.position(Location::Node, st.corner(grid, k))))
+        far_corner = k;
+    if (far_corner < 0) return 0.0;  // the shell cuts no corner off the centre
+    const auto contact = shells->nearest(centre, dx, centre);
+    const Eigen::Vector3d far = grid.position(Location::Node, st.corner(grid, far_corner));
+    if (!contact) return 0.0;
+    const unsigned near_seen = m_advector.seen_corner_values(phi, centre, st, *shells, seen.data());
+    const unsigned far_seen = m_advector.seen_corner_values(phi, far, st, *shells, across.data());
+    if (near_seen == 0 || far_seen == 0) return 0.0;
+    for (int k = 0; k < 8; ++k) {
+      side[k] = contact->normal.dot(grid.position(Location::Node, st.corner(grid, k)) -
+                                    contact->point);  // > 0 on the centre's side
+      // A corner hidden by another shell (a cup's wall above its bottom): that side's own
+      // φ, not the continuation of water through a second shell.
+      if (side[k] > 0.0 && (near_seen >> k & 1u) == 0) seen[k] = own[k];
+      if (side[k] < 0.0 && (far_seen >> k & 1u) == 0) across[k] = own[k];
+    }
+    std::array<double, 8> everywhere;
+    everywhere.fill(1.0);
+    const double plain = LevelSet::two_sided_cell_fraction(own, own, everywhere);
+    return LevelSet::two_sided_cell_fraction(across, seen, side) - plain;
+  });
+  return whole + correction * dx * dx * dx;
 }
 
 void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,

@@ -43,6 +43,13 @@ class LevelSet {
   double volume() const;
   /// The same over the cells of `cells` (possibly empty: 0).
   double volume(const grid::IndexBox& cells) const;
+  /// The water fraction of one cell that a plane cuts, exact for a linear φ on each of its
+  /// six tetrahedra: where the plane's signed distance `side` (at the cell's corners, in
+  /// NodeStencil's corner order) is below zero φ is `phi_below`, elsewhere `phi_above`
+  /// (each side's own φ, continued across the plane: a shell's two sides).
+  static double two_sided_cell_fraction(const std::array<double, 8>& phi_below,
+                                        const std::array<double, 8>& phi_above,
+                                        const std::array<double, 8>& side);
   /// The volume where this water and `other` (φ of the same grid) differ [m^3]:
   /// Σ over nodes of |H(−φ) − H(−φ_other)| Δx^3 with the smeared Heaviside of width
   /// 1.5Δx (Osher and Fedkiw 2002, eq. 7.1), 1/2 per domain face a node lies on. A shape

@@ -58,7 +58,18 @@ class Liquid {
   const ParticleLevelSet& particles() const { return m_particles; }
   ParticleLevelSet& particles() { return m_particles; }
   const std::vector<WaterSource>& sources() const { return m_sources; }
+  /// The volume water_volume_change counts from [m^3]: the scene's water measured by
+  /// volume() against the shells of the first step (before that, without shells).
   double initial_volume() const { return m_initial_volume; }
+  bool initial_volume_measured() const { return m_initial_volume_measured; }
+  void measure_initial_volume(const ShellGeometry* shells, const geometry::ShellBand* band) {
+    set_initial_volume(volume(shells, band));
+  }
+  /// A restored run's: the volume the run counted from.
+  void set_initial_volume(double volume) {
+    m_initial_volume = volume;
+    m_initial_volume_measured = true;
+  }
   /// φ is advected by MacCormack's corrected step ("advection": "maccormack").
   bool maccormack() const { return m_advector.maccormack(); }
 
@@ -82,6 +93,9 @@ class Liquid {
   /// centres, the mean of the corners each centre sees (`band`: the cells where rays are
   /// cast; may be null without shells).
   const FreeSurface& surface(const ShellGeometry& shells, const geometry::ShellBand* band);
+  /// The water's volume [m^3] (LevelSet::volume), where `shells` cut a cell of `band`
+  /// each side counted with its own φ; without shells or band, LevelSet::volume().
+  double volume(const ShellGeometry* shells, const geometry::ShellBand* band) const;
   void extrapolate(MacGrid& mac, const PressureProjection& projection, const ShellGeometry& shells,
                    const geometry::ShellBand* band);
 
@@ -103,6 +117,7 @@ class Liquid {
   std::array<std::vector<std::uint8_t>, 3> m_known;
   std::vector<std::uint8_t> m_velocity_nodes;
   double m_initial_volume = 0.0;
+  bool m_initial_volume_measured = false;
   LiquidStats m_stats;
 };
 
