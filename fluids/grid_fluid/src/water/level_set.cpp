@@ -140,20 +140,11 @@ constexpr std::array<std::array<int, 4>, 6> kCubeTetrahedra = {
 
 /// The water fraction of the cell whose corner 0 is node `base` (corner c at base +
 /// offset[c]).
-double cell_fraction(const double* phi, std::int64_t base,
-                     const std::array<std::int64_t, 8>& offset) {
+double cell_fraction_at(const double* phi, std::int64_t base,
+                        const std::array<std::int64_t, 8>& offset) {
   std::array<double, 8> corner;
-  bool any_wet = false, any_dry = false;
-  for (int c = 0; c < 8; ++c) {
-    corner[c] = phi[base + offset[c]];
-    (corner[c] < 0.0 ? any_wet : any_dry) = true;
-  }
-  if (!any_dry) return 1.0;
-  if (!any_wet) return 0.0;
-  double sum = 0.0;
-  for (const auto& t : kCubeTetrahedra)
-    sum += tetrahedron_water_fraction({corner[t[0]], corner[t[1]], corner[t[2]], corner[t[3]]});
-  return sum / 6.0;
+  for (int c = 0; c < 8; ++c) corner[c] = phi[base + offset[c]];
+  return LevelSet::cell_fraction(corner);
 }
 
 /// A tetrahedron: its corners (in cell units) and a linear field's values there.
@@ -209,6 +200,17 @@ double water_below_plane(const Tetrahedron& t, const std::array<double, 4>& side
 
 }  // namespace
 
+double LevelSet::cell_fraction(const std::array<double, 8>& corner) {
+  bool any_wet = false, any_dry = false;
+  for (const double v : corner) (v < 0.0 ? any_wet : any_dry) = true;
+  if (!any_dry) return 1.0;
+  if (!any_wet) return 0.0;
+  double sum = 0.0;
+  for (const auto& t : kCubeTetrahedra)
+    sum += tetrahedron_water_fraction({corner[t[0]], corner[t[1]], corner[t[2]], corner[t[3]]});
+  return sum / 6.0;
+}
+
 double LevelSet::two_sided_cell_fraction(const std::array<double, 8>& phi_below,
                                          const std::array<double, 8>& phi_above,
                                          const std::array<double, 8>& side) {
@@ -247,7 +249,7 @@ double LevelSet::volume(const grid::IndexBox& cells) const {
     const std::int64_t first = m_grid.index(Location::Node, cells.lo.x(), j, k);
     double row = 0.0;
     for (int i = 0; i <= cells.hi.x() - cells.lo.x(); ++i)
-      row += cell_fraction(m_phi.data(), first + i, offset);
+      row += cell_fraction_at(m_phi.data(), first + i, offset);
     return row;
   });
   const double dx = m_grid.dx();

@@ -276,10 +276,7 @@ double Liquid::volume(const ShellGeometry* shells, const geometry::ShellBand* ba
       if (side[k] > 0.0 && (near_seen >> k & 1u) == 0) seen[k] = own[k];
       if (side[k] < 0.0 && (far_seen >> k & 1u) == 0) across[k] = own[k];
     }
-    std::array<double, 8> everywhere;
-    everywhere.fill(1.0);
-    const double plain = LevelSet::two_sided_cell_fraction(own, own, everywhere);
-    return LevelSet::two_sided_cell_fraction(across, seen, side) - plain;
+    return LevelSet::two_sided_cell_fraction(across, seen, side) - LevelSet::cell_fraction(own);
   });
   return whole + correction * dx * dx * dx;
 }

@@ -43,6 +43,9 @@ class LevelSet {
   double volume() const;
   /// The same over the cells of `cells` (possibly empty: 0).
   double volume(const grid::IndexBox& cells) const;
+  /// The water fraction of one cell from its corners' φ (NodeStencil's corner order), as
+  /// volume() measures it.
+  static double cell_fraction(const std::array<double, 8>& corner);
   /// The water fraction of one cell that a plane cuts, exact for a linear φ on each of its
   /// six tetrahedra: where the plane's signed distance `side` (at the cell's corners, in
   /// NodeStencil's corner order) is below zero φ is `phi_below`, elsewhere `phi_above`
