@@ -141,15 +141,21 @@ unsigned LevelSetAdvector::seen_corner_values(std::span<const double> phi, const
         sum += 2.0 * value[d] - phi[m_grid.index(Location::Node, mirror)];
         ++terms;
       }
-    // No such line (the grid's edge, or other shells): the mean of its nearest ring of
-    // visible corners (constant continuation).
+    const double continued = terms > 0 ? sum / terms : kInf;
+    // The mean of its nearest ring of visible corners (constant continuation).
+    sum = 0.0;
+    terms = 0;
     for (int ring = 1; ring <= 3 && terms == 0; ++ring)
       for (int d = 0; d < 8; ++d)
         if ((visible >> d & 1u) != 0 && std::popcount(unsigned(c ^ d)) == ring) {
           sum += value[d];
           ++terms;
         }
-    ghost[c] = sum / terms;
+    // The wetter of the two. Constant continuation erases a film on the shell; linear
+    // continuation dries water against a moving wall, whose nodes fast marching holds at
+    // a small |φ| (water ending at the wall): alone, it cost a poured goblet 2.5 % of its
+    // water (paper/water_goblet_pour_preview; +0.7 % with the wetter reading).
+    ghost[c] = std::min(sum / terms, continued);
   }
   for (int c = 0; c < 8; ++c)
     if ((visible >> c & 1u) == 0) value[c] = ghost[c];

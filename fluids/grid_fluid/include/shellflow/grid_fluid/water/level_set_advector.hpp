@@ -4,15 +4,17 @@
 // suffices under the particle level set). Each node traces the same ray as its velocity
 // (§4.1: clipped against wedges of doubled thickness 2ε, so the base point is visible
 // from the node); of the 8 nodes of the base point's cell, one that is not visible from
-// the base point takes the base point's side continued linearly across the shell:
-// 2φ(d) − φ(2d − c) through each visible corner d of its nearest ring (one edge, then a
-// face diagonal, then the cell's diagonal away) whose mirror node 2d − c is visible too,
-// averaged; without such a line, the mean of the nearest ring of visible corners. The
-// linear rule keeps a film on a shell thinner than a cell: its dry nodes hold less than
-// their distance to the shell, and constant continuation reads them as the water's φ, a bias
-// upwards that thinned such a film every step. A ray the shell clipped takes the ring rule
-// alone: it starts at the shell, where a field flowing off it continued linearly would
-// steepen its own slope every step and make water behind the shell. With no visible
+// the base point takes the wetter (the lower φ) of two continuations of the base point's
+// side across the shell: linear, 2φ(d) − φ(2d − c) through each visible corner d of its
+// nearest ring (one edge, then a face diagonal, then the cell's diagonal away) whose mirror
+// node 2d − c is visible too, averaged; and constant, the mean of that nearest ring of
+// visible corners. The linear one keeps a film on a shell thinner than a cell: its dry
+// nodes hold less than their distance to the shell, and constant continuation reads them
+// as the water's φ, a bias upwards that erased such a film. The constant one keeps water
+// held against a moving wall, whose small |φ| there the linear one reads as the water
+// ending at the wall. A ray the shell clipped takes the constant one alone: it starts at
+// the shell, where a field flowing off it continued linearly would steepen its own slope
+// every step and make water behind the shell. With no visible
 // node in the cell the node is invalid and refilled afterwards (refill(): §3,
 // Gauss–Jacobi over valid visible neighbours, then the positive distance to the object).
 // Nodes outside the shell band take the plain trilinear path.
@@ -50,16 +52,16 @@ class LevelSetAdvector {
               std::vector<std::int64_t>& invalid);
 
   /// φ at `base` by trilinear interpolation over its cell, each node not visible from
-  /// `base` replaced by the rule above (`linear`: the linear continuation first, else the
-  /// ring rule alone); nullopt when no node of the cell is visible. `range`, when given,
+  /// `base` replaced by the rule above (without `linear`, the constant continuation alone);
+  /// nullopt when no node of the cell is visible. `range`, when given,
   /// receives the least and greatest of the 8 values interpolated.
   std::optional<double> sample_visible(std::span<const double> phi, const Eigen::Vector3d& base,
                                        const ShellGeometry& shells, double* range = nullptr,
                                        bool linear = true) const;
 
   /// The φ the 8 corners of `st`'s cell hold as seen from p (in `st`'s corner order): a
-  /// corner p sees keeps its own; one across a shell takes p's side continued linearly
-  /// (the rule above; without `linear`, the ring rule alone). Returns the corners p sees
+  /// corner p sees keeps its own; one across a shell takes p's side continued (the rule
+  /// above; without `linear`, the constant continuation alone). Returns the corners p sees
   /// (bit c for corner c; 0: none, and `value` is then the corners' own φ).
   unsigned seen_corner_values(std::span<const double> phi, const Eigen::Vector3d& p,
                               const NodeStencil& st, const ShellGeometry& shells, double value[8],
