@@ -154,7 +154,7 @@ unsigned LevelSetAdvector::seen_corner_values(std::span<const double> phi, const
     // The wetter of the two. Constant continuation erases a film on the shell; linear
     // continuation dries water against a moving wall, whose nodes fast marching holds at
     // a small |φ| (water ending at the wall): alone, it cost a poured goblet 2.5 % of its
-    // water (paper/water_goblet_pour_preview; +0.7 % with the wetter reading).
+    // water (paper/water_goblet_pour_preview; +0.6 % with the wetter reading).
     ghost[c] = std::min(sum / terms, continued);
   }
   for (int c = 0; c < 8; ++c)
