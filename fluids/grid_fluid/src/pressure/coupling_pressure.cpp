@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "shellflow/geometry/gauss_jacobi_refill.hpp"
+#include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/pressure/rigid_face_areas.hpp"
 #include "shellflow/linear/constant_null_space.hpp"
 #include "shellflow/linear/preconditioned_cg.hpp"
@@ -482,8 +483,7 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
   candidates.reserve(8 * m_stencils.size());
   for (const TriangleStencil& st : m_stencils)
     for (int corner = 0; corner < 8; ++corner)
-      candidates.push_back(m_grid.index(
-          Location::Node, st.lower + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2)));
+      candidates.push_back(m_grid.index(Location::Node, st.lower + corner_step(corner)));
   std::sort(candidates.begin(), candidates.end());
   candidates.erase(std::unique(candidates.begin(), candidates.end()), candidates.end());
   for (const std::int64_t i : candidates) m_node_jump.insert(i, Eigen::Vector3d::Zero());
@@ -530,7 +530,7 @@ void CouplingPressure::forces_on_triangles(sdk::ShellSet set,
       for (int a = 0; a < 3; ++a) {
         double sum = 0.0, w_sum = 0.0;
         for (int corner = 0; corner < 8; ++corner) {
-          const Eigen::Vector3i d(corner & 1, (corner >> 1) & 1, corner >> 2);
+          const Eigen::Vector3i d = corner_step(corner);
           const std::int64_t i = m_grid.index(Location::Node, lower + d);
           if (m_node_valid[a][i] != 1) continue;
           const double w = (d.x() ? t.x() : 1.0 - t.x()) * (d.y() ? t.y() : 1.0 - t.y()) *

@@ -220,7 +220,7 @@ double LevelSet::two_sided_cell_fraction(const std::array<double, 8>& phi_below,
     std::array<double, 4> s, minus_s;
     for (int v = 0; v < 4; ++v) {
       const int c = k[v];
-      const Eigen::Vector3d x(c & 1, (c >> 1) & 1, c >> 2);
+      const Eigen::Vector3d x = corner_step(c).cast<double>();
       below.x[v] = above.x[v] = x;
       below.phi[v] = phi_below[c];
       above.phi[v] = phi_above[c];

@@ -16,11 +16,6 @@ using grid::Location;
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
-/// Corner c's offset from its cell's corner 0 (bit 0: +x, bit 1: +y, bit 2: +z).
-Eigen::Vector3i corner_step(int c) {
-  return Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
-}
 }  // namespace
 
 void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velocity, double dt,

@@ -1,5 +1,6 @@
 #include "shellflow/grid_fluid/water/liquid.hpp"
 
+#include <bit>
 #include <cmath>
 #include <limits>
 
@@ -201,8 +202,7 @@ const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::
       double value[8];
       bool seen[8];
       for (int corner = 0; corner < 8; ++corner) {
-        const Eigen::Vector3i node =
-            c + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, corner >> 2);
+        const Eigen::Vector3i node = c + corner_step(corner);
         seen[corner] = shells.visible(centre, grid.position(Location::Node, node));
         value[corner] = phi[grid.index(Location::Node, node)];
       }
@@ -232,7 +232,7 @@ double Liquid::volume(const ShellGeometry* shells, const geometry::ShellBand* ba
   const double whole = m_level_set.volume();
   if (shells == nullptr || shells->empty() || band == nullptr) return whole;
   // Each cell a shell cuts counts each side's water with that side's φ (its corners
-  // across the shell continued linearly, seen_corner_values), split by the plane of the
+  // across the shell continued, seen_corner_values), split by the plane of the
   // shell point nearest its centre: a film on a shell thinner than the shell's distance
   // to the next row of nodes holds no wet node, and the one-φ measure missed it.
   const grid::UniformGrid& grid = m_level_set.grid();
@@ -243,9 +243,7 @@ double Liquid::volume(const ShellGeometry* shells, const geometry::ShellBand* ba
   const double correction = ordered_sum(m, [&](std::int64_t s) -> double {
     const Eigen::Vector3i c = grid.coordinates(Location::Cell, list[s]);
     const Eigen::Vector3d centre = grid.position(Location::Cell, c);
-    NodeStencil st;
-    st.base = c;
-    st.fraction = Eigen::Vector3d::Constant(0.5);
+    const NodeStencil st{c, Eigen::Vector3d::Constant(0.5)};
     std::array<double, 8> own, seen, across, side;
     double lowest = kInfinity, highest = -kInfinity;
     for (int k = 0; k < 8; ++k) {
@@ -257,17 +255,16 @@ double Liquid::volume(const ShellGeometry* shells, const geometry::ShellBand* ba
     // the sign of corners all that far from the surface: both sides dry, or both wet.
     const double reach = std::sqrt(3.0) * dx;
     if (lowest > reach || highest < -reach) return 0.0;
-    int far_corner = -1;
-    for (int k = 0; k < 8 && far_corner < 0; ++k)
-      if (!shells->visible(centre, grid.position(Location::Node, st.corner(grid, k))))
-        far_corner = k;
-    if (far_corner < 0) return 0.0;  // the shell cuts no corner off the centre
-    const auto contact = shells->nearest(centre, dx, centre);
-    const Eigen::Vector3d far = grid.position(Location::Node, st.corner(grid, far_corner));
-    if (!contact) return 0.0;
+    // The corners the centre sees (its rays cast once, here); the first it does not see
+    // stands on the far side.
     const unsigned near_seen = m_advector.seen_corner_values(phi, centre, st, *shells, seen.data());
+    if (near_seen == 0 || near_seen == 0xffu) return 0.0;  // in a wedge, or no corner cut off
+    const auto contact = shells->nearest(centre, dx, centre);
+    if (!contact) return 0.0;
+    const int far_corner = std::countr_one(near_seen);
+    const Eigen::Vector3d far = grid.position(Location::Node, st.corner(grid, far_corner));
     const unsigned far_seen = m_advector.seen_corner_values(phi, far, st, *shells, across.data());
-    if (near_seen == 0 || far_seen == 0) return 0.0;
+    if (far_seen == 0) return 0.0;
     for (int k = 0; k < 8; ++k) {
       side[k] = contact->normal.dot(grid.position(Location::Node, st.corner(grid, k)) -
                                     contact->point);  // > 0 on the centre's side

@@ -68,6 +68,11 @@ class NodeFields {
   double m_ambient = 0.0;  ///< the temperature of samples when none is stored
 };
 
+/// Corner c's offset from its cell's corner 0 (bit 0: +x, bit 1: +y, bit 2: +z).
+inline Eigen::Vector3i corner_step(int c) {
+  return Eigen::Vector3i(c & 1, (c >> 1) & 1, c >> 2);
+}
+
 /// The cell of the node lattice holding a point (clamped into the grid), and the
 /// trilinear weights' fractions inside it.
 struct NodeStencil {
@@ -75,8 +80,7 @@ struct NodeStencil {
   Eigen::Vector3d fraction;  ///< in [0, 1]^3
   /// Flat index of corner c (bit 0: +x, bit 1: +y, bit 2: +z).
   std::int64_t corner(const grid::UniformGrid& grid, int c) const {
-    return grid.index(grid::Location::Node, base.x() + (c & 1), base.y() + ((c >> 1) & 1),
-                      base.z() + ((c >> 2) & 1));
+    return grid.index(grid::Location::Node, base + corner_step(c));
   }
   double weight(int c) const {
     return ((c & 1) ? fraction.x() : 1.0 - fraction.x()) *
