@@ -652,59 +652,161 @@ void coarsen_level(Level& fine, Level& coarse) {
       fine.restriction_correction);
 }
 
-void find_near_shell(Level& level, int reach) {
-  const LevelGraph g(level);
-  const Eigen::Vector3i n = g.n;
-  std::vector<std::uint8_t> seed(g.cells, 0);
-  bool any = level.extras > 0;
-  for (int e = 0; e < level.extras; ++e) seed[level.extra_cell[e]] = 1;
-#pragma omp parallel for schedule(static) reduction(|| : any) if (g.cells >= kParallelThreshold)
-  for (int z = 0; z < n.z(); ++z)
-    for (int y = 0; y < n.y(); ++y)
-      for (int x = 0; x < n.x(); ++x) {
-        const Eigen::Vector3i c(x, y, z);
-        const int cell = g.cell(c);
-        if (!g.active(cell)) continue;
-        for (int a = 0; a < 3 && seed[cell] == 0; ++a)
-          for (int side = 0; side < 2; ++side) {
-            // The face between c and its neighbour along a (on side − or +).
-            Eigen::Vector3i nb = c, plus = c;
-            nb[a] += side == 0 ? -1 : 1;
-            plus[a] += side;
-            if (nb[a] < 0 || nb[a] >= n[a] || g.face(a, plus) != 0.0f || !g.active(g.cell(nb)))
-              continue;
-            seed[cell] = 1;
-            any = true;
-            break;
-          }
+namespace {
+
+/// seed[i] for the cells of row (j, k): 1 where the cell has extra parts, or is active with
+/// an interior face closed towards an active neighbour. Returns whether the row has one.
+template <class W>
+bool near_shell_seeds_of_row(const Level& level, const CellStencil& s, const W* wx, const W* wy,
+                             const W* wz, int j, int k, const std::uint8_t* carried,
+                             std::uint8_t* seed) {
+  const std::int64_t row = s.cell_row(j, k);
+  const float* active = level.inverse_diagonal.data() + row;  // > 0: active
+  const W* fx = wx + s.face_x_row(j, k);
+  const W* fy_lo = wy + s.face_y_row(j, k);
+  const W* fy_hi = fy_lo + s.nx;
+  const W* fz_lo = wz + s.face_z_row(j, k);
+  const W* fz_hi = fz_lo + s.plane();
+  const float* down = j > 0 ? active - s.nx : nullptr;
+  const float* up = j + 1 < s.ny ? active + s.nx : nullptr;
+  const float* back = k > 0 ? active - s.plane() : nullptr;
+  const float* front = k + 1 < s.nz ? active + s.plane() : nullptr;
+  const int* extra_start = level.extras > 0 ? level.cell_extra_start.data() + row : nullptr;
+  bool any = false;
+  for (int i = 0; i < s.nx; ++i) {
+    bool near = (extra_start != nullptr && extra_start[i + 1] > extra_start[i]) ||
+                (carried != nullptr && carried[row + i] != 0);
+    if (!near && active[i] > 0.0f)  // closed faces are rare: test them first
+      near = (fx[i] == W(0) && i > 0 && active[i - 1] > 0.0f) ||
+             (fx[i + 1] == W(0) && i + 1 < s.nx && active[i + 1] > 0.0f) ||
+             (fy_lo[i] == W(0) && down != nullptr && down[i] > 0.0f) ||
+             (fy_hi[i] == W(0) && up != nullptr && up[i] > 0.0f) ||
+             (fz_lo[i] == W(0) && back != nullptr && back[i] > 0.0f) ||
+             (fz_hi[i] == W(0) && front != nullptr && front[i] > 0.0f);
+    seed[i] = near ? 1 : 0;
+    any = any || near;
+  }
+  return any;
+}
+
+}  // namespace
+
+std::vector<std::uint8_t> fractional_face_cells(const Level& level) {
+  const auto s = stencil_of(level.cells);
+  std::vector<std::uint8_t> out(level.size(), 0);
+  if (level.unit_weights) return out;
+  const float* wx = level.weight[0].data();
+  const float* wy = level.weight[1].data();
+  const float* wz = level.weight[2].data();
+  const float* active = level.inverse_diagonal.data();
+  const auto fractional = [](float w) { return w != 0.0f && w != 1.0f; };
+  // Each cell looks at its own six faces, so rows write only their own flags.
+#pragma omp parallel for collapse(2) schedule(static) if (level.size() >= kParallelThreshold)
+  for (int k = 0; k < s.nz; ++k)
+    for (int j = 0; j < s.ny; ++j) {
+      const std::int64_t row = s.cell_row(j, k);
+      const float* fx = wx + s.face_x_row(j, k);
+      const float* fy = wy + s.face_y_row(j, k);
+      const float* fz = wz + s.face_z_row(j, k);
+      for (int i = 0; i < s.nx; ++i) {
+        const std::int64_t c = row + i;
+        if (!(active[c] > 0.0f)) continue;
+        out[c] = (i > 0 && fractional(fx[i]) && active[c - 1] > 0.0f) ||
+                 (i + 1 < s.nx && fractional(fx[i + 1]) && active[c + 1] > 0.0f) ||
+                 (j > 0 && fractional(fy[i]) && active[c - s.nx] > 0.0f) ||
+                 (j + 1 < s.ny && fractional(fy[i + s.nx]) && active[c + s.nx] > 0.0f) ||
+                 (k > 0 && fractional(fz[i]) && active[c - s.plane()] > 0.0f) ||
+                 (k + 1 < s.nz && fractional(fz[i + s.plane()]) && active[c + s.plane()] > 0.0f);
       }
+    }
+  return out;
+}
+
+std::vector<std::uint8_t> coarsen_flags(const std::vector<std::uint8_t>& fine,
+                                        const Eigen::Vector3i& fine_cells,
+                                        const Eigen::Vector3i& coarse_cells) {
+  std::vector<std::uint8_t> out(coarse_cells.prod(), 0);
+  for (int k = 0; k < fine_cells.z(); ++k)
+    for (int j = 0; j < fine_cells.y(); ++j) {
+      const std::uint8_t* row =
+          fine.data() + fine_cells.x() * (j + std::int64_t(fine_cells.y()) * k);
+      std::uint8_t* to =
+          out.data() + coarse_cells.x() * (j / 2 + std::int64_t(coarse_cells.y()) * (k / 2));
+      for (int i = 0; i < fine_cells.x(); ++i) to[i / 2] |= row[i];
+    }
+  return out;
+}
+
+void find_near_shell(Level& level, int reach, const std::vector<std::uint8_t>& carried) {
+  const auto s = stencil_of(level.cells);
+  const int rows = s.ny * s.nz;
+  const bool go = level.size() >= kParallelThreshold;
+  // 1. Seeds, and which rows hold one; each seeded row then dilated along x (box distance).
+  std::vector<std::uint8_t> seed(level.size()), along_x(level.size());
+  std::vector<std::uint8_t> row_seeded(rows);
+  bool any = false;
+  const auto seeds = [&](const auto* wx, const auto* wy, const auto* wz) {
+#pragma omp parallel for collapse(2) schedule(static) reduction(|| : any) if (go)
+    for (int k = 0; k < s.nz; ++k)
+      for (int j = 0; j < s.ny; ++j) {
+        const std::int64_t row = s.cell_row(j, k);
+        const bool seeded =
+            near_shell_seeds_of_row(level, s, wx, wy, wz, j, k,
+                                    carried.empty() ? nullptr : carried.data(), seed.data() + row);
+        row_seeded[j + s.ny * k] = seeded ? 1 : 0;
+        if (!seeded) continue;
+        any = true;
+        for (int i = 0; i < s.nx; ++i) {
+          std::uint8_t v = 0;
+          for (int d = std::max(i - reach, 0); d <= std::min(i + reach, s.nx - 1) && !v; ++d)
+            v = seed[row + d];
+          along_x[row + i] = v;
+        }
+      }
+  };
+  if (level.unit_weights)
+    seeds(level.open[0].data(), level.open[1].data(), level.open[2].data());
+  else
+    seeds(level.weight[0].data(), level.weight[1].data(), level.weight[2].data());
   level.near_shell.clear();
   if (!any) return;
-  // Dilate by `reach` cells (box distance), one axis at a time.
-  std::vector<std::uint8_t> next(g.cells);
-  for (int a = 0; a < 3; ++a)
-    for (int step = 0; step < reach; ++step) {
-      const int stride = a == 0 ? 1 : a == 1 ? n.x() : n.x() * n.y();
-#pragma omp parallel for collapse(2) schedule(static) if (g.cells >= kParallelThreshold)
-      for (int z = 0; z < n.z(); ++z)
-        for (int y = 0; y < n.y(); ++y)
-          for (int x = 0; x < n.x(); ++x) {
-            const int cell = x + n.x() * (y + n.y() * z);
-            const int along = a == 0 ? x : a == 1 ? y : z;
-            std::uint8_t v = seed[cell];
-            if (along > 0) v |= seed[cell - stride];
-            if (along + 1 < n[a]) v |= seed[cell + stride];
-            next[cell] = v;
+  // 2. Per row, the union of the seeded rows within reach in y and z, as runs of cells
+  //    (each thread's rows are one contiguous run of rows, so the threads' lists
+  //    concatenate in flat order).
+  const int threads = go ? omp_get_max_threads() : 1;
+  std::vector<std::vector<Level::NearRun>> found(threads);
+#pragma omp parallel num_threads(threads) if (go)
+  {
+    auto& mine = found[omp_get_thread_num()];
+    std::vector<std::uint8_t> near(s.nx);
+#pragma omp for collapse(2) schedule(static)
+    for (int k = 0; k < s.nz; ++k)
+      for (int j = 0; j < s.ny; ++j) {
+        bool touched = false;
+        for (int kk = std::max(k - reach, 0); kk <= std::min(k + reach, s.nz - 1); ++kk)
+          for (int jj = std::max(j - reach, 0); jj <= std::min(j + reach, s.ny - 1); ++jj) {
+            if (row_seeded[jj + s.ny * kk] == 0) continue;
+            const std::uint8_t* source = along_x.data() + s.cell_row(jj, kk);
+            if (!touched)
+              std::copy(source, source + s.nx, near.begin());
+            else
+              for (int i = 0; i < s.nx; ++i) near[i] |= source[i];
+            touched = true;
           }
-      seed.swap(next);
-    }
-  for (int cell = 0; cell < g.cells; ++cell) {
-    if (seed[cell] == 0) continue;
-    if (g.active(cell)) level.near_shell.push_back(cell);
-    const auto [first, last] = g.extras_of(cell);
-    for (int u = first; u < last; ++u)
-      if (g.active(u)) level.near_shell.push_back(u);
+        if (!touched) continue;
+        for (int i = 0; i < s.nx;) {
+          if (near[i] == 0) {
+            ++i;
+            continue;
+          }
+          const int first = i;
+          while (i < s.nx && near[i] != 0) ++i;
+          mine.push_back({j, k, first, i});
+        }
+      }
   }
+  for (const auto& runs : found)
+    level.near_shell.insert(level.near_shell.end(), runs.begin(), runs.end());
 }
 
 }  // namespace shellflow::linear::detail

@@ -7,6 +7,8 @@
 // the sheet it was computed for, where a single unknown per cell would average both sides.
 
 #include <Eigen/Core>
+#include <cstdint>
+#include <vector>
 
 #include "shellflow/linear/multigrid_preconditioner.hpp"
 
@@ -38,8 +40,20 @@ void coarsen_level(MultigridPreconditioner::Level& fine, MultigridPreconditioner
 
 /// Fills level.near_shell: the active unknowns (cells in flat order, each followed by its
 /// extras) of the cells within `reach` cells (box distance) of a shell on this level — a
-/// cell with extra parts, or an active cell one of whose interior faces is closed towards
-/// an active neighbour.
-void find_near_shell(MultigridPreconditioner::Level& level, int reach);
+/// cell with extra parts, a cell flagged in `carried` (empty: none), or an active cell one
+/// of whose interior faces is closed towards an active neighbour.
+void find_near_shell(MultigridPreconditioner::Level& level, int reach,
+                     const std::vector<std::uint8_t>& carried);
+
+/// Per cell of a level: 1 where an active cell has a face of weight other than 0 or 1 (a
+/// two-way shell's β in the §5.1 solve) towards an active neighbour. Such a weight jump fits
+/// the rediscretised coarse operator as badly as a closed face does, so these cells, and
+/// the coarse cells above them on every level (coarsen_flags), count as near a shell too.
+std::vector<std::uint8_t> fractional_face_cells(const MultigridPreconditioner::Level& level);
+
+/// Flags of a level's cells ORed into the cells of the next coarser level.
+std::vector<std::uint8_t> coarsen_flags(const std::vector<std::uint8_t>& fine,
+                                        const Eigen::Vector3i& fine_cells,
+                                        const Eigen::Vector3i& coarse_cells);
 
 }  // namespace shellflow::linear::detail

@@ -150,8 +150,13 @@ class MultigridPreconditioner final : public Preconditioner {
     /// Iterate, right-hand side, residual: bound to the scratch by apply().
     mutable float *x = nullptr, *b = nullptr, *r = nullptr;
 
-    /// Unknowns near a shell, which get extra Gauss–Seidel sweeps (see near_shell_sweeps).
-    std::vector<int> near_shell;
+    /// Cells near a shell, which get extra Gauss–Seidel sweeps (see near_shell_sweeps), as
+    /// runs of cells [first, last) on grid row (j, k) in flat order; each active cell is
+    /// swept, then its active extra parts.
+    struct NearRun {
+      int j, k, first, last;
+    };
+    std::vector<NearRun> near_shell;
 
     /// Scratch of the coarsening, held only while compute() runs (MultigridScratch keeps
     /// it between builds, so that a compute() per step reuses the memory): per unknown the
