@@ -22,9 +22,6 @@ using detail::parents_of;
 // Coarsen while every axis has at least this many cells (coarsest: 4–7 on the shortest).
 constexpr int kMinCellsToCoarsen = 8;
 
-// Fine faces below this weight count as closed for the coarsening (clamp_for_coarsening).
-constexpr float kWeakFace = 0.5f;
-
 /// Children of coarse cell I along one axis with their restriction weights: exactly the
 /// transpose of parents_of (so that R = P^T and the V-cycle stays symmetric).
 struct Children {
@@ -61,7 +58,7 @@ void with_weights(const Level& level, F&& f) {
   if (level.unit_weights) {
     f(level.open[0].data(), level.open[1].data(), level.open[2].data());
   } else {
-    f(level.weight[0].data(), level.weight[1].data(), level.weight[2].data());
+    f(level.face_weight[0], level.face_weight[1], level.face_weight[2]);
   }
 }
 
@@ -364,45 +361,6 @@ void prolongate_add(const Level& coarse, const Level& fine,
   add_correction(fine.prolongation_correction, xc, x);
 }
 
-/// Fine faces whose weight the coarsening reads otherwise than the smoother, per thread's
-/// run of faces: (family, face, true weight).
-using ChangedFaces = std::vector<std::vector<std::tuple<int, std::int64_t, float>>>;
-
-/// Sets the fine level's float face weights to what the coarsening reads: a weak face (a
-/// heavy two-way sheet's β in the §5.1 solve) counts as closed, so it splits coarse cells
-/// into parts as a closed shell does and the coarse levels carry the pressure jump across
-/// it; a strong one (a light sheet's β ≫ 1) counts as open (1), since the rediscretised
-/// coarse face would sum its weight as if the whole coarse cell conducted that well. The
-/// smoother keeps the true weights (restore_weights). On the two-way sheets of
-/// MultigridShellSides this takes the iterations at 64³ from up to 2.8x those without the
-/// sheet to at most 1.36x.
-ChangedFaces clamp_for_coarsening(Level& fine) {
-  if (fine.unit_weights) return {};
-  ChangedFaces changed(omp_get_max_threads());
-#pragma omp parallel num_threads(static_cast <int>(changed.size()))
-  {
-    auto& mine = changed[omp_get_thread_num()];
-    mine.clear();
-    for (int a = 0; a < 3; ++a) {
-      float* w = fine.weight[a].data();
-      const std::int64_t m = static_cast<std::int64_t>(fine.weight[a].size());
-#pragma omp for schedule(static) nowait
-      for (std::int64_t f = 0; f < m; ++f) {
-        const float clamped = w[f] < kWeakFace ? 0.0f : std::min(w[f], 1.0f);
-        if (clamped == w[f]) continue;
-        mine.emplace_back(a, f, w[f]);
-        w[f] = clamped;
-      }
-    }
-  }
-  return changed;
-}
-
-void restore_weights(Level& fine, const ChangedFaces& changed) {
-  for (const auto& list : changed)
-    for (const auto& [a, f, w] : list) fine.weight[a][f] = w;
-}
-
 void zero(float* p, std::int64_t n, bool go) {
 #pragma omp parallel for schedule(static) if (go)
   for (std::int64_t i = 0; i < n; ++i) p[i] = 0.0f;
@@ -427,7 +385,10 @@ MultigridPreconditioner::MultigridPreconditioner(MultigridSettings settings,
 
 void MultigridPreconditioner::compute(const GridLaplacian& A) {
   const std::uint64_t fingerprint = A.fingerprint();
-  if (m_built && fingerprint == m_fingerprint) return;
+  if (m_built && fingerprint == m_fingerprint) {
+    point_at_weights(A);  // an equal A, perhaps another object
+    return;
+  }
   m_built = false;  // until the build below completes
   // Level sizes.
   std::vector<Eigen::Vector3i> sizes{A.cells()};
@@ -448,20 +409,18 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
   for (int a = 0; a < 3; ++a) {
     const auto& w = A.weights(a);
     const std::int64_t m = static_cast<std::int64_t>(w.size());
-    if (unit) {
-      fine.weight[a].clear();
-      fine.open[a].resize(w.size());
-      std::uint8_t* out = fine.open[a].data();
-#pragma omp parallel for schedule(static) if (m >= kParallelThreshold)
-      for (std::int64_t f = 0; f < m; ++f) out[f] = w[f] != 0.0 ? 1 : 0;
-    } else {
-      fine.open[a].clear();
-      fine.weight[a].resize(w.size());
-      float* out = fine.weight[a].data();
-#pragma omp parallel for schedule(static) if (m >= kParallelThreshold)
-      for (std::int64_t f = 0; f < m; ++f) out[f] = static_cast<float>(w[f]);
+    std::vector<float>().swap(fine.weight[a]);  // the fine level owns no float weights
+    if (!unit) {
+      std::vector<std::uint8_t>().swap(fine.open[a]);
+      continue;
     }
+    fine.open[a].resize(w.size());
+    std::uint8_t* out = fine.open[a].data();
+#pragma omp parallel for schedule(static) if (m >= kParallelThreshold)
+    for (std::int64_t f = 0; f < m; ++f) out[f] = w[f] != 0.0 ? 1 : 0;
   }
+  fine.clamp_for_coarsening = !unit;
+  point_at_weights(A);
   // The fine level is the plain grid: one unknown per cell, no links.
   fine.dirichlet.assign(A.dirichlet().begin(), A.dirichlet().end());
   fine.ground.clear();
@@ -484,9 +443,7 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
     }
   };
   swap_scratch();  // borrow
-  const auto changed = clamp_for_coarsening(fine);
   for (size_t l = 1; l < m_levels.size(); ++l) detail::coarsen_level(m_levels[l - 1], m_levels[l]);
-  restore_weights(fine, changed);
   swap_scratch();  // and give back
   // Cells at a fractional face (a two-way shell's β), carried down to every level.
   std::vector<std::uint8_t> fractional;
@@ -502,6 +459,12 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
   m_fingerprint = fingerprint;
   m_built = true;
   ++m_builds;
+}
+
+void MultigridPreconditioner::point_at_weights(const GridLaplacian& A) {
+  Level& fine = m_levels[0];
+  for (int a = 0; a < 3; ++a)
+    fine.face_weight[a] = fine.unit_weights ? nullptr : A.weights(a).data();
 }
 
 void MultigridPreconditioner::bind_scratch() const {

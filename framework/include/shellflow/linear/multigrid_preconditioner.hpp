@@ -85,10 +85,12 @@ class MultigridPreconditioner final : public Preconditioner {
   explicit MultigridPreconditioner(MultigridSettings settings = {},
                                    std::shared_ptr<MultigridScratch> scratch = nullptr);
 
-  /// Builds the level hierarchy of A (weights copied; buffers reused when the grid size
-  /// does not change between calls). An A equal to the last one, bit for bit (its
-  /// fingerprint), keeps the hierarchy: a smoke scene's operator is the same every step
-  /// unless a shell moves, and the build costs as much as two V-cycles.
+  /// Builds the level hierarchy of A (buffers reused when the grid size does not change
+  /// between calls). An A equal to the last one, bit for bit (its fingerprint), keeps the
+  /// hierarchy: a smoke scene's operator is the same every step unless a shell moves, and
+  /// the build costs as much as two V-cycles. Face weights all 0 or 1 are copied as bytes;
+  /// others are read in place (50 MB not copied at Fig. 2's size), so A must outlive the
+  /// apply() calls that follow and not change before the next compute().
   void compute(const GridLaplacian& A);
   /// How many times compute() has built a hierarchy (not counting the kept ones).
   std::int64_t builds() const { return m_builds; }
@@ -122,10 +124,16 @@ class MultigridPreconditioner final : public Preconditioner {
   struct Level {
     Eigen::Vector3i cells = Eigen::Vector3i::Zero();
     std::array<std::vector<float>, 3> weight;  ///< face weights, GridLaplacian layout
+    /// The float face weights the level reads: `weight`'s, or on the fine level the
+    /// operator's own (GridLaplacian's floats).
+    std::array<const float*, 3> face_weight{};
     /// With unit_weights (every weight 0 or 1, as on the projection's fine grid) the
     /// weights are kept as bytes in `open` instead (less memory traffic per sweep).
     bool unit_weights = false;
     std::array<std::vector<std::uint8_t>, 3> open;
+    /// The fine level of a §5.1 solve: the coarsening reads a weak face (a heavy two-way
+    /// sheet's β) as closed and a strong one as open (detail::coarsening_weight).
+    bool clamp_for_coarsening = false;
     /// Per cell: what its diagonal holds beyond its structured faces — its Dirichlet
     /// conductance plus its links to extra parts (empty: none anywhere).
     std::vector<float> dirichlet;
@@ -173,6 +181,8 @@ class MultigridPreconditioner final : public Preconditioner {
  private:
   /// Points the levels' x, b, r at the scratch (grown to fit first).
   void bind_scratch() const;
+  /// The fine level reads A's float weights in place (see compute()).
+  void point_at_weights(const GridLaplacian& A);
 
   MultigridSettings m_settings;
   std::shared_ptr<MultigridScratch> m_scratch;
