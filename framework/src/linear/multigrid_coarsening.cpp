@@ -673,12 +673,11 @@ void coarsen_level(Level& fine, Level& coarse) {
 
 namespace {
 
-/// seed[i] for the cells of row (j, k): 1 where the cell has extra parts, or is active with
-/// an interior face closed towards an active neighbour. Returns whether the row has one.
-template <class W>
-bool near_shell_seeds_of_row(const Level& level, const CellStencil& s, const W* wx, const W* wy,
-                             const W* wz, int j, int k, const std::uint8_t* carried,
-                             std::uint8_t* seed) {
+/// flag[i] = 1 for the active cells of row (j, k) with an interior face f that
+/// `selected(w_f)` picks towards an active neighbour; other entries are left alone.
+template <class W, class Select>
+void flag_faces_to_active(const Level& level, const CellStencil& s, const W* wx, const W* wy,
+                          const W* wz, int j, int k, Select selected, std::uint8_t* flag) {
   const std::int64_t row = s.cell_row(j, k);
   const float* active = level.inverse_diagonal.data() + row;  // > 0: active
   const W* fx = wx + s.face_x_row(j, k);
@@ -690,22 +689,15 @@ bool near_shell_seeds_of_row(const Level& level, const CellStencil& s, const W* 
   const float* up = j + 1 < s.ny ? active + s.nx : nullptr;
   const float* back = k > 0 ? active - s.plane() : nullptr;
   const float* front = k + 1 < s.nz ? active + s.plane() : nullptr;
-  const int* extra_start = level.extras > 0 ? level.cell_extra_start.data() + row : nullptr;
-  bool any = false;
-  for (int i = 0; i < s.nx; ++i) {
-    bool near = (extra_start != nullptr && extra_start[i + 1] > extra_start[i]) ||
-                (carried != nullptr && carried[row + i] != 0);
-    if (!near && active[i] > 0.0f)  // closed faces are rare: test them first
-      near = (fx[i] == W(0) && i > 0 && active[i - 1] > 0.0f) ||
-             (fx[i + 1] == W(0) && i + 1 < s.nx && active[i + 1] > 0.0f) ||
-             (fy_lo[i] == W(0) && down != nullptr && down[i] > 0.0f) ||
-             (fy_hi[i] == W(0) && up != nullptr && up[i] > 0.0f) ||
-             (fz_lo[i] == W(0) && back != nullptr && back[i] > 0.0f) ||
-             (fz_hi[i] == W(0) && front != nullptr && front[i] > 0.0f);
-    seed[i] = near ? 1 : 0;
-    any = any || near;
-  }
-  return any;
+  for (int i = 0; i < s.nx; ++i)
+    if (active[i] > 0.0f &&  // the selected faces are rare: test them first
+        ((selected(fx[i]) && i > 0 && active[i - 1] > 0.0f) ||
+         (selected(fx[i + 1]) && i + 1 < s.nx && active[i + 1] > 0.0f) ||
+         (selected(fy_lo[i]) && down != nullptr && down[i] > 0.0f) ||
+         (selected(fy_hi[i]) && up != nullptr && up[i] > 0.0f) ||
+         (selected(fz_lo[i]) && back != nullptr && back[i] > 0.0f) ||
+         (selected(fz_hi[i]) && front != nullptr && front[i] > 0.0f)))
+      flag[i] = 1;
 }
 
 }  // namespace
@@ -714,30 +706,12 @@ std::vector<std::uint8_t> fractional_face_cells(const Level& level) {
   const auto s = stencil_of(level.cells);
   std::vector<std::uint8_t> out(level.size(), 0);
   if (level.unit_weights) return out;
-  const float* wx = level.face_weight[0];
-  const float* wy = level.face_weight[1];
-  const float* wz = level.face_weight[2];
-  const float* active = level.inverse_diagonal.data();
   const auto fractional = [](float w) { return w != 0.0f && w != 1.0f; };
-  // Each cell looks at its own six faces, so rows write only their own flags.
 #pragma omp parallel for collapse(2) schedule(static) if (level.size() >= kParallelThreshold)
   for (int k = 0; k < s.nz; ++k)
-    for (int j = 0; j < s.ny; ++j) {
-      const std::int64_t row = s.cell_row(j, k);
-      const float* fx = wx + s.face_x_row(j, k);
-      const float* fy = wy + s.face_y_row(j, k);
-      const float* fz = wz + s.face_z_row(j, k);
-      for (int i = 0; i < s.nx; ++i) {
-        const std::int64_t c = row + i;
-        if (!(active[c] > 0.0f)) continue;
-        out[c] = (i > 0 && fractional(fx[i]) && active[c - 1] > 0.0f) ||
-                 (i + 1 < s.nx && fractional(fx[i + 1]) && active[c + 1] > 0.0f) ||
-                 (j > 0 && fractional(fy[i]) && active[c - s.nx] > 0.0f) ||
-                 (j + 1 < s.ny && fractional(fy[i + s.nx]) && active[c + s.nx] > 0.0f) ||
-                 (k > 0 && fractional(fz[i]) && active[c - s.plane()] > 0.0f) ||
-                 (k + 1 < s.nz && fractional(fz[i + s.plane()]) && active[c + s.plane()] > 0.0f);
-      }
-    }
+    for (int j = 0; j < s.ny; ++j)
+      flag_faces_to_active(level, s, level.face_weight[0], level.face_weight[1],
+                           level.face_weight[2], j, k, fractional, out.data() + s.cell_row(j, k));
   return out;
 }
 
@@ -745,13 +719,16 @@ std::vector<std::uint8_t> coarsen_flags(const std::vector<std::uint8_t>& fine,
                                         const Eigen::Vector3i& fine_cells,
                                         const Eigen::Vector3i& coarse_cells) {
   std::vector<std::uint8_t> out(coarse_cells.prod(), 0);
-  for (int k = 0; k < fine_cells.z(); ++k)
-    for (int j = 0; j < fine_cells.y(); ++j) {
-      const std::uint8_t* row =
-          fine.data() + fine_cells.x() * (j + std::int64_t(fine_cells.y()) * k);
-      std::uint8_t* to =
-          out.data() + coarse_cells.x() * (j / 2 + std::int64_t(coarse_cells.y()) * (k / 2));
-      for (int i = 0; i < fine_cells.x(); ++i) to[i / 2] |= row[i];
+  const auto fs = stencil_of(fine_cells), cs = stencil_of(coarse_cells);
+#pragma omp parallel for collapse(2) schedule(static) if (fine.size() >= kParallelThreshold)
+  for (int K = 0; K < cs.nz; ++K)
+    for (int J = 0; J < cs.ny; ++J) {
+      std::uint8_t* to = out.data() + cs.cell_row(J, K);
+      for (int k = 2 * K; k < std::min(2 * K + 2, fs.nz); ++k)
+        for (int j = 2 * J; j < std::min(2 * J + 2, fs.ny); ++j) {
+          const std::uint8_t* row = fine.data() + fs.cell_row(j, k);
+          for (int i = 0; i < fs.nx; ++i) to[i / 2] |= row[i];
+        }
     }
   return out;
 }
@@ -764,14 +741,21 @@ void find_near_shell(Level& level, int reach, const std::vector<std::uint8_t>& c
   std::vector<std::uint8_t> seed(level.size()), along_x(level.size());
   std::vector<std::uint8_t> row_seeded(rows);
   bool any = false;
+  const bool has_extras = level.extras > 0;
+  const int* extra_start = has_extras ? level.cell_extra_start.data() : nullptr;
+  const auto closed = [](auto w) { return w == 0; };
   const auto seeds = [&](const auto* wx, const auto* wy, const auto* wz) {
 #pragma omp parallel for collapse(2) schedule(static) reduction(|| : any) if (go)
     for (int k = 0; k < s.nz; ++k)
       for (int j = 0; j < s.ny; ++j) {
         const std::int64_t row = s.cell_row(j, k);
-        const bool seeded =
-            near_shell_seeds_of_row(level, s, wx, wy, wz, j, k,
-                                    carried.empty() ? nullptr : carried.data(), seed.data() + row);
+        // A cell with extra parts, a carried one, or one closed off from an active neighbour.
+        std::uint8_t* flag = seed.data() + row;
+        for (int i = 0; i < s.nx; ++i)
+          flag[i] = (has_extras && extra_start[row + i + 1] > extra_start[row + i]) ||
+                    (!carried.empty() && carried[row + i] != 0);
+        flag_faces_to_active(level, s, wx, wy, wz, j, k, closed, flag);
+        const bool seeded = std::find(flag, flag + s.nx, 1) != flag + s.nx;
         row_seeded[j + s.ny * k] = seeded ? 1 : 0;
         if (!seeded) continue;
         any = true;

@@ -38,8 +38,8 @@ void compute_inverse_diagonal(MultigridPreconditioner::Level& level);
 /// difference between the part-aware trilinear P and the plain one on cells).
 void coarsen_level(MultigridPreconditioner::Level& fine, MultigridPreconditioner::Level& coarse);
 
-/// Fills level.near_shell: the active unknowns (cells in flat order, each followed by its
-/// extras) of the cells within `reach` cells (box distance) of a shell on this level — a
+/// Fills level.near_shell: the runs of cells within `reach` cells (box distance) of a shell
+/// on this level, in flat order — a
 /// cell with extra parts, a cell flagged in `carried` (empty: none), or an active cell one
 /// of whose interior faces is closed towards an active neighbour.
 void find_near_shell(MultigridPreconditioner::Level& level, int reach,
