@@ -14,7 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#define SHELLFLOW_ABI_MAJOR 3  // 3: StateWriter's counting and streamed passes (layout)
+#define SHELLFLOW_ABI_MAJOR 4  // 4: MultigridPreconditioner::Level (layout); 3: StateWriter (layout)
 #define SHELLFLOW_ABI_MINOR 0
 #define SHELLFLOW_ENTRY_SYMBOL "shellflow_plugin_entry"
 
