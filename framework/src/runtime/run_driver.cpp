@@ -304,6 +304,7 @@ RunSummary run_scene(const Scene& scene, const RunOptions& options) {
         Checkpoint c = read_checkpoint(file);
         sdk::StateReader in(c.state);
         loop.restore(in);
+        sdk::StateBuffer().swap(c.state);  // the solvers hold it now: free it for the run
         resumed = std::move(c);
         break;
       } catch (const Error& e) {
