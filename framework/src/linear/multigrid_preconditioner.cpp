@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <string>
-#include <tuple>
 
 #include "cell_stencil.hpp"
 #include "multigrid_coarsening.hpp"
