@@ -125,7 +125,9 @@ Checkpoint read_checkpoint(const fs::path& file) {
   if (!in) throw IoError("cannot open checkpoint " + file.string());
   // One buffer the size of the file: the state is cut out of it in place, never copied
   // (336 MB for Fig. 2 at the paper's size, which the solvers' own arrays already hold).
-  sdk::StateBuffer bytes(static_cast<size_t>(in.tellg()));
+  const std::streamoff size = in.tellg();
+  if (size < 0) throw IoError("cannot read checkpoint " + file.string());
+  sdk::StateBuffer bytes(static_cast<size_t>(size));
   in.seekg(0);
   if (!in.read(reinterpret_cast<char*>(bytes.data()), static_cast<std::streamsize>(bytes.size())))
     throw IoError("cannot read checkpoint " + file.string());
