@@ -234,10 +234,7 @@ void compute_inverse_diagonal(Level& level) {
           out[c] = d > 0.0f ? 1.0f / d : 0.0f;  // isolated cell: left at 0
         });
   };
-  if (level.unit_weights)
-    cells(level.open[0].data(), level.open[1].data(), level.open[2].data());
-  else
-    cells(level.face_weight[0], level.face_weight[1], level.face_weight[2]);
+  with_weights(level, cells);
   for (int e = 0; e < level.extras; ++e) {
     const int u = level.size() + e;
     float d = level.ground[u];
@@ -704,8 +701,8 @@ void flag_faces_to_active(const Level& level, const CellStencil& s, const W* wx,
 
 std::vector<std::uint8_t> fractional_face_cells(const Level& level) {
   const auto s = stencil_of(level.cells);
+  if (level.unit_weights) return {};  // every face 0 or 1
   std::vector<std::uint8_t> out(level.size(), 0);
-  if (level.unit_weights) return out;
   const auto fractional = [](float w) { return w != 0.0f && w != 1.0f; };
 #pragma omp parallel for collapse(2) schedule(static) if (level.size() >= kParallelThreshold)
   for (int k = 0; k < s.nz; ++k)
@@ -738,39 +735,37 @@ void find_near_shell(Level& level, int reach, const std::vector<std::uint8_t>& c
   const int rows = s.ny * s.nz;
   const bool go = level.size() >= kParallelThreshold;
   // 1. Seeds, and which rows hold one; each seeded row then dilated along x (box distance).
-  std::vector<std::uint8_t> seed(level.size()), along_x(level.size());
-  std::vector<std::uint8_t> row_seeded(rows);
+  std::vector<std::uint8_t> along_x(level.size()), row_seeded(rows);
   bool any = false;
-  const bool has_extras = level.extras > 0;
-  const int* extra_start = has_extras ? level.cell_extra_start.data() : nullptr;
+  const int* extra_start = level.extras > 0 ? level.cell_extra_start.data() : nullptr;
   const auto closed = [](auto w) { return w == 0; };
-  const auto seeds = [&](const auto* wx, const auto* wy, const auto* wz) {
-#pragma omp parallel for collapse(2) schedule(static) reduction(|| : any) if (go)
-    for (int k = 0; k < s.nz; ++k)
-      for (int j = 0; j < s.ny; ++j) {
-        const std::int64_t row = s.cell_row(j, k);
-        // A cell with extra parts, a carried one, or one closed off from an active neighbour.
-        std::uint8_t* flag = seed.data() + row;
-        for (int i = 0; i < s.nx; ++i)
-          flag[i] = (has_extras && extra_start[row + i + 1] > extra_start[row + i]) ||
-                    (!carried.empty() && carried[row + i] != 0);
-        flag_faces_to_active(level, s, wx, wy, wz, j, k, closed, flag);
-        const bool seeded = std::find(flag, flag + s.nx, 1) != flag + s.nx;
-        row_seeded[j + s.ny * k] = seeded ? 1 : 0;
-        if (!seeded) continue;
-        any = true;
-        for (int i = 0; i < s.nx; ++i) {
-          std::uint8_t v = 0;
-          for (int d = std::max(i - reach, 0); d <= std::min(i + reach, s.nx - 1) && !v; ++d)
-            v = seed[row + d];
-          along_x[row + i] = v;
+  with_weights(level, [&](const auto* wx, const auto* wy, const auto* wz) {
+#pragma omp parallel if (go)
+    {
+      std::vector<std::uint8_t> seed(s.nx);  // this row's seeds
+#pragma omp for collapse(2) schedule(static) reduction(|| : any)
+      for (int k = 0; k < s.nz; ++k)
+        for (int j = 0; j < s.ny; ++j) {
+          const std::int64_t row = s.cell_row(j, k);
+          // A cell with extra parts, a carried one, or one closed off from an active
+          // neighbour.
+          for (int i = 0; i < s.nx; ++i)
+            seed[i] = (extra_start != nullptr && extra_start[row + i + 1] > extra_start[row + i]) ||
+                      (!carried.empty() && carried[row + i] != 0);
+          flag_faces_to_active(level, s, wx, wy, wz, j, k, closed, seed.data());
+          const bool seeded = std::find(seed.begin(), seed.end(), 1) != seed.end();
+          row_seeded[j + s.ny * k] = seeded ? 1 : 0;
+          if (!seeded) continue;
+          any = true;
+          for (int i = 0; i < s.nx; ++i) {
+            std::uint8_t v = 0;
+            for (int d = std::max(i - reach, 0); d <= std::min(i + reach, s.nx - 1) && !v; ++d)
+              v = seed[d];
+            along_x[row + i] = v;
+          }
         }
-      }
-  };
-  if (level.unit_weights)
-    seeds(level.open[0].data(), level.open[1].data(), level.open[2].data());
-  else
-    seeds(level.face_weight[0], level.face_weight[1], level.face_weight[2]);
+    }
+  });
   level.near_shell.clear();
   if (!any) return;
   // 2. Per row, the union of the seeded rows within reach in y and z, as runs of cells

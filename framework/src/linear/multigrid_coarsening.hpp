@@ -38,6 +38,17 @@ void compute_inverse_diagonal(MultigridPreconditioner::Level& level);
 /// difference between the part-aware trilinear P and the plain one on cells).
 void coarsen_level(MultigridPreconditioner::Level& fine, MultigridPreconditioner::Level& coarse);
 
+/// Calls f(wx, wy, wz) with the level's face weights: one byte per face when every weight
+/// is 0 or 1 (the projection's fine grid: a third of the memory traffic of floats), floats
+/// otherwise.
+template <class F>
+void with_weights(const MultigridPreconditioner::Level& level, F&& f) {
+  if (level.unit_weights)
+    f(level.open[0].data(), level.open[1].data(), level.open[2].data());
+  else
+    f(level.face_weight[0], level.face_weight[1], level.face_weight[2]);
+}
+
 /// Fills level.near_shell: the runs of cells within `reach` cells (box distance) of a shell
 /// on this level, in flat order — a
 /// cell with extra parts, a cell flagged in `carried` (empty: none), or an active cell one
@@ -45,10 +56,11 @@ void coarsen_level(MultigridPreconditioner::Level& fine, MultigridPreconditioner
 void find_near_shell(MultigridPreconditioner::Level& level, int reach,
                      const std::vector<std::uint8_t>& carried);
 
-/// Per cell of a level: 1 where an active cell has a face of weight other than 0 or 1 (a
-/// two-way shell's β in the §5.1 solve) towards an active neighbour. Such a weight jump fits
-/// the rediscretised coarse operator as badly as a closed face does, so these cells, and
-/// the coarse cells above them on every level (coarsen_flags), count as near a shell too.
+/// Per cell of a level (empty when every weight is 0 or 1): 1 where an active cell has a
+/// face of weight other than 0 or 1 (a two-way shell's β in the §5.1 solve) towards an
+/// active neighbour. Such a weight jump fits the rediscretised coarse operator as badly as
+/// a closed face does, so these cells, and the coarse cells above them on every level
+/// (coarsen_flags), count as near a shell too.
 std::vector<std::uint8_t> fractional_face_cells(const MultigridPreconditioner::Level& level);
 
 /// Flags of a level's cells ORed into the cells of the next coarser level.

@@ -17,6 +17,7 @@ using detail::kParallelThreshold;
 using Level = MultigridPreconditioner::Level;
 using detail::Parents;
 using detail::parents_of;
+using detail::with_weights;
 
 // Coarsen while every axis has at least this many cells (coarsest: 4–7 on the shortest).
 constexpr int kMinCellsToCoarsen = 8;
@@ -47,18 +48,6 @@ std::vector<Children> children_along(int fine_cells, int coarse_cells) {
 
 bool parallel(const Level& level) {
   return level.cells.prod() >= kParallelThreshold;
-}
-
-/// Calls f(wx, wy, wz) with the level's face weights: one byte per face when every weight
-/// is 0 or 1 (the projection's fine grid: a third of the memory traffic of floats), floats
-/// otherwise.
-template <class F>
-void with_weights(const Level& level, F&& f) {
-  if (level.unit_weights) {
-    f(level.open[0].data(), level.open[1].data(), level.open[2].data());
-  } else {
-    f(level.face_weight[0], level.face_weight[1], level.face_weight[2]);
-  }
 }
 
 /// Σ w x_v over the links of unknown u (its couplings that involve an extra part).
@@ -445,8 +434,7 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
   for (size_t l = 1; l < m_levels.size(); ++l) detail::coarsen_level(m_levels[l - 1], m_levels[l]);
   swap_scratch();  // and give back
   // Cells at a fractional face (a two-way shell's β), carried down to every level.
-  std::vector<std::uint8_t> fractional;
-  if (!fine.unit_weights) fractional = detail::fractional_face_cells(fine);
+  std::vector<std::uint8_t> fractional = detail::fractional_face_cells(fine);
   for (size_t l = 0; l < m_levels.size(); ++l) {
     detail::find_near_shell(m_levels[l], m_settings.near_shell_reach, fractional);
     if (!fractional.empty() && l + 1 < m_levels.size())

@@ -59,27 +59,6 @@ void add_curtain(GridLaplacian& a, int n, float w) {
     for (int j = n / 4; j < n; ++j) testing::laplacian_face_weight(a, 0, x, j, k) = w;
 }
 
-/// A plate tilted in x and z over the middle half of the box: a staircase of closed y-faces
-/// at height h(x, z) with closed risers between columns of different height, so that no
-/// open face joins the cells below the plate to those above it.
-void add_tilted_plate(GridLaplacian& a, int n, float w) {
-  const int lo = n / 4, hi = n - n / 4;
-  const auto height = [&](int i, int k) {
-    return n / 3 + static_cast<int>(0.4 * (i - lo) + 0.25 * (k - lo));
-  };
-  for (int k = lo; k < hi; ++k)
-    for (int i = lo; i < hi; ++i) {
-      const int h = height(i, k);
-      testing::laplacian_face_weight(a, 1, i, h, k) = w;
-      if (i + 1 < hi)  // riser between columns i and i + 1
-        for (int j = std::min(h, height(i + 1, k)); j < std::max(h, height(i + 1, k)); ++j)
-          testing::laplacian_face_weight(a, 0, i + 1, j, k) = w;
-      if (k + 1 < hi)
-        for (int j = std::min(h, height(i, k + 1)); j < std::max(h, height(i, k + 1)); ++j)
-          testing::laplacian_face_weight(a, 2, i, j, k + 1) = w;
-    }
-}
-
 /// A cloth folded into a pocket: two layers (y-faces at y0 and y0 + 2, y0 = 1 mod 4, so the
 /// layers cut level-1 cells and both cross the same level-2 cell, splitting it in three)
 /// joined by the fold (x-faces at x1) and closed at both z sides, open towards -x.
@@ -118,7 +97,7 @@ GridLaplacian box_with(Sheet sheet, int n, float w = 0.0f) {
       add_curtain(a, n, w);
       break;
     case Sheet::TiltedPlate:
-      add_tilted_plate(a, n, w);
+      testing::add_tilted_plate(a, n, w);
       break;
     case Sheet::FoldedPocket:
       add_folded_pocket(a, n, w);
@@ -132,6 +111,20 @@ GridLaplacian box_with(Sheet sheet, int n, float w = 0.0f) {
 
 constexpr Sheet kSheets[] = {Sheet::Curtain, Sheet::TiltedPlate, Sheet::FoldedPocket,
                              Sheet::HorizontalPlate};
+
+/// <x, M y> = <M x, y> to float round-off and <x, M x>, <y, M y> > 0 for random x, y
+/// (seeds `seed`, `seed` + 50).
+void expect_symmetric_positive(const MultigridPreconditioner& mg, int size, unsigned seed,
+                               const std::string& label) {
+  const Eigen::VectorXd x = testing::random_vector(size, seed);
+  const Eigen::VectorXd y = testing::random_vector(size, seed + 50);
+  Eigen::VectorXd mx, my;
+  mg.apply(x, mx);
+  mg.apply(y, my);
+  EXPECT_NEAR(x.dot(my), mx.dot(y), 1e-5 * x.norm() * my.norm()) << label;
+  EXPECT_GT(x.dot(mx), 0.0) << label;
+  EXPECT_GT(y.dot(my), 0.0) << label;
+}
 
 // The V-cycle runs in single precision: <x, M y> and <M x, y> agree to float round-off
 // (~1e-7 relative per operation; 1e-5 leaves room for the sums over 10^4 cells), and
@@ -147,17 +140,10 @@ TEST(MultigridShellSides, VCycleIsSymmetricPositiveDefiniteOnShellCutDomains) {
       // The sheet splits level-1 cells: more unknowns there than cells.
       const int coarse_cells = ((n + 1) / 2) * ((n + 1) / 2) * ((n + 1) / 2);
       EXPECT_GT(mg.unknowns(1), coarse_cells) << name_of(sheet) << " " << n;
-      for (unsigned seed = 1; seed <= 3; ++seed) {
-        const Eigen::VectorXd x = testing::random_vector(a.size(), seed);
-        const Eigen::VectorXd y = testing::random_vector(a.size(), seed + 50);
-        Eigen::VectorXd mx, my;
-        mg.apply(x, mx);
-        mg.apply(y, my);
-        EXPECT_NEAR(x.dot(my), mx.dot(y), 1e-5 * x.norm() * my.norm())
-            << name_of(sheet) << " " << n << " " << seed;
-        EXPECT_GT(x.dot(mx), 0.0) << name_of(sheet) << " " << n;
-        EXPECT_GT(y.dot(my), 0.0) << name_of(sheet) << " " << n;
-      }
+      for (unsigned seed = 1; seed <= 3; ++seed)
+        expect_symmetric_positive(
+            mg, a.size(), seed,
+            name_of(sheet) + " " + std::to_string(n) + " " + std::to_string(seed));
     }
 }
 
@@ -262,13 +248,7 @@ TEST(MultigridShellSides, TwoWaySheetCostsAtMostAQuarterMoreIterations) {
       const GridLaplacian a = box_with(sheet, 21, beta);
       MultigridPreconditioner mg;
       mg.compute(a);
-      const Eigen::VectorXd x = testing::random_vector(a.size(), 21);
-      const Eigen::VectorXd y = testing::random_vector(a.size(), 22);
-      Eigen::VectorXd mx, my;
-      mg.apply(x, mx);
-      mg.apply(y, my);
-      EXPECT_NEAR(x.dot(my), mx.dot(y), 1e-5 * x.norm() * my.norm()) << name_of(sheet);
-      EXPECT_GT(x.dot(mx), 0.0) << name_of(sheet);
+      expect_symmetric_positive(mg, a.size(), 21, name_of(sheet));
     }
     for (const int n : {32, 64}) {
       const int plain = iterations_of(box_with(Sheet::None, n));

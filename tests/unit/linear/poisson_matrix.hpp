@@ -8,6 +8,7 @@
 // `face_weight(cell_a, cell_b)` > 0 scales each face coefficient (variable density).
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <numbers>
@@ -52,6 +53,28 @@ GridLaplacian box_laplacian(const Eigen::Vector3i& cells, OpenSide&& open_side) 
         }
   }
   return a;
+}
+
+/// A plate tilted in x and z over the middle half of an n^3 box, its faces given weight w
+/// (0: a shell closes them): a staircase of y-faces at height lift + n/3 + h(x, z) with
+/// risers between columns of different height, so that no face of another weight joins
+/// the cells below the plate to those above it.
+inline void add_tilted_plate(GridLaplacian& a, int n, float w, int lift = 0) {
+  const int lo = n / 4, hi = n - n / 4;
+  const auto height = [&](int i, int k) {
+    return lift + n / 3 + static_cast<int>(0.4 * (i - lo) + 0.25 * (k - lo));
+  };
+  for (int k = lo; k < hi; ++k)
+    for (int i = lo; i < hi; ++i) {
+      const int h = height(i, k);
+      laplacian_face_weight(a, 1, i, h, k) = w;
+      if (i + 1 < hi)  // riser between columns i and i + 1
+        for (int j = std::min(h, height(i + 1, k)); j < std::max(h, height(i + 1, k)); ++j)
+          laplacian_face_weight(a, 0, i + 1, j, k) = w;
+      if (k + 1 < hi)
+        for (int j = std::min(h, height(i, k + 1)); j < std::max(h, height(i, k + 1)); ++j)
+          laplacian_face_weight(a, 2, i, j, k + 1) = w;
+    }
 }
 
 enum class Boundary { Dirichlet, Neumann };

@@ -30,9 +30,13 @@
 //    correction and as many backward (black, red) after; the coarsest grid gets
 //    `coarsest_sweeps` symmetric sweeps (red, black, red) from zero. Unknowns with a zero
 //    diagonal (cells isolated by shells, air cells) are left at 0.
-//  - Near a shell (cells with extra parts or a closed face between two active cells, and
-//    the cells within `near_shell_reach` of them) each level gets `near_shell_sweeps` more
-//    Gauss–Seidel sweeps in list order after the pre-smoothing, and as many in reverse
+//  - A two-way sheet's faces (weight β, neither 0 nor 1, in the §5.1 solve): the
+//    coarsening reads a weak one (below 0.5) as closed and a strong one as 1; the smoother
+//    keeps the true weights.
+//  - Near a shell (cells with extra parts, a closed face between two active cells or,
+//    carried down from the fine level, a face of weight neither 0 nor 1, and the cells
+//    within `near_shell_reach` of them) each level gets `near_shell_sweeps` more
+//    Gauss–Seidel sweeps in flat order after the pre-smoothing, and as many in reverse
 //    order before the post-smoothing: the boundary smoothing of McAdams et al. 2010 applied
 //    about a sheet, where the rediscretised coarse operator fits the fine one worst (a folded
 //    pocket: 15 iterations against 11 without the sweeps, 13 with them, at 64³).
