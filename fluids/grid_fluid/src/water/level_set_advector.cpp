@@ -87,12 +87,22 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
             continue;
           }
           // §4.1 clipped ray, then one secondary ray per cell node (§4.4.1). A ray the
-          // shell cut short came from the shell itself, so its node takes what lies at the
-          // shell, continued constantly: continued linearly, a field flowing off a shell
-          // steepened its own slope step after step and made water behind it.
-          const Eigen::Vector3d base = shells.clip(x, departure, eps_prime);
-          const std::optional<double> v =
-              sample_visible(in, base, shells, node_range, base == departure);
+          // shell cuts short slides along it instead: the node velocities next to a shell
+          // average faces it closes per axis, and their normal part relative to the shell
+          // is not the water's (a film sliding down a plate at 0.4 m/s: up to 0.14 m/s off
+          // it). Stopped at the shell, such a node read the constant continuation there,
+          // the film's dry nodes, and lost the film at every step of the plate's staircase.
+          // Where even the slid path is blocked (a fold, a corner), the node takes what lies
+          // at the shell, continued constantly: continued linearly, a field flowing off a
+          // shell steepened its own slope step after step and made water behind it.
+          Eigen::Vector3d base = shells.clip(x, departure, eps_prime);
+          bool linear = base == departure;
+          if (!linear)
+            if (const auto slid = slide_along_shell(x, departure, dt, shells, eps_prime)) {
+              base = *slid;
+              linear = true;
+            }
+          const std::optional<double> v = sample_visible(in, base, shells, node_range, linear);
           if (!v) {
             out[node] = in[node];
             mine.push_back(node);
@@ -102,6 +112,27 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
         }
   }
   for (const auto& list : per_thread) invalid.insert(invalid.end(), list.begin(), list.end());
+}
+
+std::optional<Eigen::Vector3d> LevelSetAdvector::slide_along_shell(const Eigen::Vector3d& x,
+                                                                   const Eigen::Vector3d& departure,
+                                                                   double dt,
+                                                                   const ShellGeometry& shells,
+                                                                   double epsilon) const {
+  const auto hit = shells.first_hit(x, departure);
+  if (!hit) return std::nullopt;
+  Eigen::Vector3d normal = shells.mesh(hit->shell).scaled_normal(hit->triangle);
+  if (normal.norm() == 0.0) return std::nullopt;
+  normal.normalize();
+  // The path back is x − dt·u; without u's normal part relative to the shell, it keeps
+  // only the shell's: x − dt·(u − ((u − u_s)·n) n).
+  const Eigen::Vector3d back = departure - x;
+  const Eigen::Vector3d relative = back + dt * shells.object_velocity(x, departure);
+  const Eigen::Vector3d slid = (departure - relative.dot(normal) * normal)
+                                   .cwiseMax(m_grid.origin())
+                                   .cwiseMin(m_grid.upper());
+  if (shells.clip(x, slid, epsilon) != slid) return std::nullopt;
+  return slid;
 }
 
 unsigned LevelSetAdvector::seen_corner_values(std::span<const double> phi, const Eigen::Vector3d& p,

@@ -12,8 +12,12 @@
 // nodes hold less than their distance to the shell, and constant continuation reads them
 // as the water's φ, a bias upwards that erased such a film. The constant one keeps water
 // held against a moving wall, whose small |φ| there the linear one reads as the water
-// ending at the wall. A ray the shell clipped takes the constant one alone: it starts at
-// the shell, where a field flowing off it continued linearly would steepen its own slope
+// ending at the wall. A ray the shell would clip slides along the shell instead, its
+// normal part relative to the shell taken out (the water next to a shell neither passes
+// through it nor leaves it; the node velocities there, averaged from faces the shell
+// closes per axis, carry such a part that is not the water's). Where the slid ray meets a
+// shell too, the clipped ray takes the constant continuation alone: it starts at the
+// shell, where a field flowing off it continued linearly would steepen its own slope
 // every step and make water behind the shell. With no visible
 // node in the cell the node is invalid and refilled afterwards (refill(): §3,
 // Gauss–Jacobi over valid visible neighbours, then the positive distance to the object).
@@ -79,6 +83,14 @@ class LevelSetAdvector {
   void trace(std::span<const double> in, const NodeFields& velocity, double dt,
              const ShellGeometry& shells, const geometry::ShellBand* band, std::span<double> out,
              double* range, std::vector<std::int64_t>& invalid) const;
+  /// Where the path back from x to `departure` goes once the shell it meets stops it
+  /// from crossing: along the shell, with the shell's own motion normal to it (the water
+  /// next to a shell does not pass through it, nor leave it). None where the path meets
+  /// no shell or the slid path meets one.
+  std::optional<Eigen::Vector3d> slide_along_shell(const Eigen::Vector3d& x,
+                                                   const Eigen::Vector3d& departure, double dt,
+                                                   const ShellGeometry& shells,
+                                                   double epsilon) const;
 
   grid::UniformGrid m_grid;
   bool m_maccormack = false;
