@@ -92,17 +92,20 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
           // is not the water's (a film sliding down a plate at up to 0.96 m/s: −0.31 to
           // +0.18 m/s off it). Stopped at the shell, such a node read the constant
           // continuation there, the film's dry nodes, and lost the film at every step of
-          // the plate's staircase.
-          // Where even the slid path is blocked (a fold, a corner), the node takes what lies
-          // at the shell, continued constantly: continued linearly, a field flowing off a
-          // shell steepened its own slope step after step and made water behind it.
-          Eigen::Vector3d base = shells.clip(x, departure, eps_prime);
-          bool linear = base == departure;
-          if (!linear)
+          // the plate's staircase. Where even the slid path is blocked (a fold, a corner),
+          // the node takes what lies at the shell, continued constantly: continued
+          // linearly, a field flowing off a shell steepened its own slope step after step
+          // and made water behind it.
+          Eigen::Vector3d base = departure;
+          bool linear = true;
+          if (!shells.visible(x, departure, eps_prime)) {
             if (const auto slid = slide_along_shell(x, departure, dt, shells, eps_prime)) {
               base = *slid;
-              linear = true;
+            } else {
+              base = shells.clip(x, departure, eps_prime);
+              linear = base == departure;
             }
+          }
           const std::optional<double> v = sample_visible(in, base, shells, node_range, linear);
           if (!v) {
             out[node] = in[node];
@@ -128,11 +131,11 @@ std::optional<Eigen::Vector3d> LevelSetAdvector::slide_along_shell(const Eigen::
   // The path back is x − dt·u; without u's normal part relative to the shell, it keeps
   // only the shell's: x − dt·(u − ((u − u_s)·n) n).
   const Eigen::Vector3d back = departure - x;
-  const Eigen::Vector3d relative = back + dt * shells.object_velocity(x, departure);
+  const Eigen::Vector3d relative = back + dt * shells.velocity_at(*hit);
   const Eigen::Vector3d slid = (departure - relative.dot(normal) * normal)
                                    .cwiseMax(m_grid.origin())
                                    .cwiseMin(m_grid.upper());
-  if (shells.clip(x, slid, epsilon) != slid) return std::nullopt;
+  if (!shells.visible(x, slid, epsilon)) return std::nullopt;
   return slid;
 }
 
