@@ -327,7 +327,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   if (m_prescribed) {
     // The field at the middle of the step carries φ and the particles; nothing else moves.
     sample_prescribed(t + 0.5 * dt, false);
-    m_liquid->advect(m_nodes, dt, geom_n, band);
+    m_liquid->advect(t, m_nodes, dt, geom_n, band);
   } else {
     // 1. §4.2 faces → nodes (already done at the end of the last projection, same shells).
     if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band);
@@ -336,7 +336,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
     m_advector.advect(
         m_nodes, m_next, dt, geom_n, band,
         m_liquid ? m_liquid->velocity_nodes(t, dt, speed) : std::span<const std::uint8_t>());
-    if (m_liquid) m_liquid->advect(m_nodes, dt, geom_n, band);
+    if (m_liquid) m_liquid->advect(t, m_nodes, dt, geom_n, band);
     std::swap(m_nodes, m_next);  // m_next keeps the fields at n: u^n for step 5
 
     // 3. Water: gravity on the nodes (§4.1), emitters; smoke: sources and body forces.
@@ -510,7 +510,11 @@ void GridFluid::save(sdk::StateWriter& out) const {
   // would choose another step than the run it continues.
   out.write(m_shell_speed);
   out.write(m_stats.max_force);
-  if (m_liquid) out.write(m_liquid->initial_volume());
+  if (m_liquid) {
+    out.write(m_liquid->initial_volume());
+    out.write(m_liquid->budget().added);
+    out.write(m_liquid->budget().outflow);
+  }
 }
 
 void GridFluid::restore(sdk::StateReader& in) {
@@ -539,6 +543,12 @@ void GridFluid::restore(sdk::StateReader& in) {
   // Last, so that a state saved before it was written still restores (the scene's
   // volume then stands in, measured without the shells).
   if (m_liquid && !in.at_end()) m_liquid->set_initial_volume(in.read<double>());
+  if (m_liquid && !in.at_end()) {  // likewise: saved before the budget was kept, none
+    VolumeBudget budget;
+    budget.added = in.read<double>();
+    budget.outflow = in.read<double>();
+    m_liquid->set_budget(budget);
+  }
   m_geometry_n.reset();
   m_geometry_np1.reset();
   m_nodes_current = false;
@@ -653,6 +663,11 @@ void GridFluid::report(sdk::Metrics& out) const {
     const double volume = m_liquid->volume(m_geometry_np1.get(), m_band_used ? &m_band : nullptr);
     out.set("water_volume", volume);
     out.set("water_volume_change", volume - m_liquid->initial_volume());
+    const VolumeBudget& budget = m_liquid->budget();
+    out.set("water_volume_added", budget.added);
+    out.set("water_volume_outflow", budget.outflow);
+    out.set("water_volume_drift",
+            volume - m_liquid->initial_volume() - budget.added + budget.outflow);
     if (m_prescribed)
       out.set("water_symmetric_difference",
               m_liquid->level_set().symmetric_difference(m_initial_phi));

@@ -122,22 +122,36 @@ std::vector<ErrorMeasure> make_registry() {
                "|V(t) − V(0)| / V(0) of the water (<fluid>.water_volume and "
                "water_volume_change): its largest over steps, or with \"at\": \"end\" at "
                "the last step (a transport test's loss after its revolution); 0 in a closed "
-               "tank",
+               "tank. With emitters or open sides, what the emitters added and the open "
+               "sides let out (water_volume_added, water_volume_outflow) are taken out of "
+               "V(t) − V(0), over the most water the run should have held",
                "conserved: the initial volume", "1",
                Schema::object("")
                    .field("fluid", fluid_param())
-                   .field("at", Schema::string("max").one_of({"max", "end"}).doc(
-                                    "'max': the largest over steps; 'end': the last step's")),
-               bind_water_column("water_volume"),
-               [](const RunOutputs& run, const Json& p) {
+                   .field("at", Schema::string("max")
+                                    .one_of({"max", "end"})
+                                    .doc("'max': the largest over steps; 'end': the last step's")),
+               bind_water_column("water_volume"), [](const RunOutputs& run, const Json& p) {
                  const std::string column = p["column"];
                  auto volume = run.metrics.column(column);
                  auto change = run.metrics.column(column + "_change");
+                 // Runs written before the budget have no such columns.
+                 const bool budget = run.metrics.has(column + "_added");
+                 std::vector<double> added, outflow;
+                 if (budget) {
+                   added = run.metrics.column(column + "_added");
+                   outflow = run.metrics.column(column + "_outflow");
+                 }
                  if (p["at"] == "end" && !volume.empty()) {
                    volume = {volume.back()};
                    change = {change.back()};
+                   if (budget) {
+                     added = {added.back()};
+                     outflow = {outflow.back()};
+                   }
                  }
-                 return water_volume_drift(volume, change);
+                 return budget ? water_volume_drift(volume, change, added, outflow)
+                               : water_volume_drift(volume, change);
                }});
   r.push_back({"water_shape_error",
                "the volume where the water at the last step differs from its shape at t = 0 "
@@ -468,6 +482,21 @@ double water_volume_drift(const std::vector<double>& volume, const std::vector<d
   const double v0 = volume.front() - change.front();
   if (!(v0 > 0.0)) throw MeasureError("the water's initial volume is not positive");
   return max_abs(change) / v0;
+}
+
+double water_volume_drift(const std::vector<double>& volume, const std::vector<double>& change,
+                          const std::vector<double>& added, const std::vector<double>& outflow) {
+  same_length(volume, change);
+  same_length(volume, added);
+  same_length(volume, outflow);
+  const double v0 = volume.front() - change.front();
+  double held = 0.0, drift = 0.0;
+  for (size_t i = 0; i < volume.size(); ++i) {
+    held = std::max(held, v0 + added[i] - outflow[i]);
+    drift = std::max(drift, std::abs(change[i] - added[i] + outflow[i]));
+  }
+  if (!(held > 0.0)) throw MeasureError("the run should never have held any water");
+  return drift / held;
 }
 
 double water_shape_error(double symmetric_difference, double initial_volume) {

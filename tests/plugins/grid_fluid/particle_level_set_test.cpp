@@ -90,7 +90,7 @@ Revolution one_revolution(int cells, int per_cell, const char* advection = "semi
   const double dt = Zalesak::kPeriod / steps;
   double t = 0.0;
   for (int s = 0; s < steps; ++s) {
-    liquid->advect(nodes, dt, none, nullptr);
+    liquid->advect(0.0, nodes, dt, none, nullptr);
     liquid->refill({}, none);
     t += dt;
     liquid->reinitialize(none, none, nullptr, t);
@@ -223,7 +223,7 @@ struct WaterAgainstAPlate {
   WaterAgainstAPlate() { band.add(geometry::TriangleMesh(shells.front()), 3.0 * grid.dx()); }
   /// One step of the water's phases at the still plate, ending at t_end.
   void step(const NodeFields& nodes, double dt, double t_end) {
-    liquid->advect(nodes, dt, plate, &band);
+    liquid->advect(0.0, nodes, dt, plate, &band);
     liquid->refill({}, plate);
     liquid->reinitialize(plate, plate, &band, t_end);
   }
@@ -296,7 +296,7 @@ TEST(ParticleLevelSet, WaterParticlesNearAShellDoNotCloseOnIt) {
   std::map<double, double> before;  // collision distance -> distance to the plate
   for (std::int64_t i = 0; i < p.size(); ++i)
     if (p.sign(i) < 0) before[p.collision_distance(i)] = w.plate_x - p.position(i).x();
-  w.liquid->advect(nodes, 0.5 * w.grid.dx(), w.plate, &w.band);
+  w.liquid->advect(0.0, nodes, 0.5 * w.grid.dx(), w.plate, &w.band);
   int near = 0;
   double worst = std::numeric_limits<double>::infinity();
   for (std::int64_t i = 0; i < p.size(); ++i) {
@@ -342,7 +342,7 @@ TEST(ParticleLevelSet, AShellSweepingOverStillParticlesPushesWaterAndDeletesAir)
     geometry::ShellBand band(grid);
     band.add_swept(geometry::TriangleMesh(s0.front()), geometry::TriangleMesh(s1.front()),
                    3.0 * dx);
-    liquid->advect(nodes, 0.01, g0, &band);
+    liquid->advect(0.0, nodes, 0.01, g0, &band);
     liquid->refill({}, g1);
     liquid->reinitialize(g0, g1, &band, 0.01 * (s + 1));  // 0.1 s: before the first reseed
   }

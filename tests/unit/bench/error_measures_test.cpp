@@ -44,6 +44,24 @@ TEST(ErrorMeasures, WaterVolumeDriftIsRelativeToTheInitialVolume) {
   EXPECT_NEAR(water_volume_drift(volume, change), 0.025, kRoundOff);
 }
 
+TEST(ErrorMeasures, WaterVolumeDriftTakesOutWhatEmittersAddedAndOpenSidesLetOut) {
+  // V(0) = 1 m³; an emitter adds 0.5 and 1.0 m³ by steps 2 and 3, 0.3 m³ has left by step
+  // 3: the run should hold 1.5 and 1.7 m³ there. It holds 1.45 and 1.717: the worst drift
+  // is 0.05 m³ over the most it should have held, 1.7 m³.
+  const std::vector<double> volume = {1.0, 1.45, 1.717};
+  std::vector<double> change;
+  for (const double v : volume) change.push_back(v - 1.0);
+  const std::vector<double> added = {0.0, 0.5, 1.0}, outflow = {0.0, 0.0, 0.3};
+  EXPECT_NEAR(water_volume_drift(volume, change, added, outflow), 0.05 / 1.7, kRoundOff);
+  // Without emitters and open sides: the closed tank's measure.
+  const std::vector<double> none = {0.0, 0.0, 0.0};
+  EXPECT_NEAR(water_volume_drift(volume, change, none, none), water_volume_drift(volume, change),
+              kRoundOff);
+  // A run that never held water (an emitter never on): no measure.
+  const std::vector<double> empty = {0.0, 0.0, 0.0};
+  EXPECT_THROW(water_volume_drift(empty, empty, empty, empty), MeasureError);
+}
+
 TEST(ErrorMeasures, WaterShapeErrorIsRelativeToTheInitialVolume) {
   // 0.3 m³ where the water differs from its 2 m³ start; NaN for a run that blew up.
   EXPECT_NEAR(water_shape_error(0.3, 2.0), 0.15, kRoundOff);

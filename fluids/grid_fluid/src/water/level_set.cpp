@@ -110,8 +110,9 @@ namespace {
 double tetrahedron_water_fraction(const std::array<double, 4>& phi) {
   std::array<double, 4> wet{}, dry{};
   int n_wet = 0, n_dry = 0;
-  for (const double v : phi) (v < 0.0 ? wet[n_wet++] : dry[n_dry++]) = v;
-  // The fraction of edge (w, d) from its wet end w to the surface; w < 0 <= d.
+  // φ <= 0 is water, as everywhere else (an emitter's nodes on its surface are 0).
+  for (const double v : phi) (v <= 0.0 ? wet[n_wet++] : dry[n_dry++]) = v;
+  // The fraction of edge (w, d) from its wet end w to the surface; w <= 0 < d.
   const auto cut = [](double w, double d) { return w / (w - d); };
   switch (n_wet) {
     case 0:

@@ -82,7 +82,11 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
                           "): velocities are extrapolated inside the signed-distance band");
   m_extrapolation_width = width * grid.dx();
   m_surface.ghost_fluid = params.at("surface_pressure").get<std::string>() == "ghost_fluid";
-  for (int s = 0; s < 6; ++s) m_walls[s] = boundary.side(s / 2, s % 2).type == BoundaryType::Wall;
+  for (int s = 0; s < 6; ++s) {
+    m_walls[s] = boundary.side(s / 2, s % 2).type == BoundaryType::Wall;
+    m_open[s] = boundary.side(s / 2, s % 2).type == BoundaryType::Open;
+    m_any_open = m_any_open || m_open[s];
+  }
   m_particles.set_walls(m_walls);
   fill_initial_water(params.at("initial"), up, "/water/initial", m_level_set);
   const auto& sources = params.at("sources");
@@ -116,11 +120,18 @@ std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double
   return m_velocity_nodes;
 }
 
-void Liquid::advect(const NodeFields& velocity, double dt, const ShellGeometry& shells,
+void Liquid::advect(double t, const NodeFields& velocity, double dt, const ShellGeometry& shells,
                     const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
   m_stats = LiquidStats{};
   m_invalid.clear();
+  // The budget's flows over the step, from φ^n; an emitter's content is taken now and
+  // again after add_sources() (it may gain water or lose it besides what flows out).
+  if (m_any_open) m_budget.outflow += open_side_outflow(m_level_set, velocity, m_open, dt);
+  for (const auto& s : m_sources)
+    if (s.active(t))
+      m_budget.added +=
+          emitter_outflow(m_level_set, velocity, s, dt) - emitter_content(m_level_set, s);
   m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid);
   std::swap(m_level_set.phi(), m_scratch);
   m_stats.t_level_set += seconds_since(start);
@@ -130,14 +141,17 @@ void Liquid::advect(const NodeFields& velocity, double dt, const ShellGeometry& 
 void Liquid::add_sources(double t, DomainBoundary& boundary) {
   const auto start = std::chrono::steady_clock::now();
   m_emitting.clear();
+  const grid::UniformGrid& grid = m_level_set.grid();
   for (const auto& s : m_sources) {
+    if (!s.active(t)) continue;
     const std::int64_t nodes = s.apply(t, m_level_set);
+    m_budget.added += emitter_content(m_level_set, s);  // advect() took the content before
     m_stats.source_nodes += nodes;
     // Its water gets particles this step (the band's 3Δx about it), not at the next reseed,
     // and loses the air particles it now covers.
     if (nodes > 0) {
-      m_particles.drop_air_in_water(m_level_set, s.bounding_nodes(m_level_set.grid(), 0.0));
-      m_emitting.push_back(s.bounding_nodes(m_level_set.grid(), 3.0 * m_level_set.grid().dx()));
+      m_particles.drop_air_in_water(m_level_set, s.bounding_nodes(grid, 0.0));
+      m_emitting.push_back(s.bounding_nodes(grid, 3.0 * grid.dx()));
     }
   }
   for (int a = 0; a < 3; ++a) {

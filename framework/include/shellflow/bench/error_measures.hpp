@@ -35,6 +35,12 @@ double max_relative_divergence(const std::vector<double>& divergence);
 /// of the first row (grid_fluid's water_volume and water_volume_change). Known answer: 0
 /// (incompressible water in a closed tank keeps its volume).
 double water_volume_drift(const std::vector<double>& volume, const std::vector<double>& change);
+/// The same for a run whose emitters add water and whose open sides let it out (grid_fluid's
+/// water_volume_added and water_volume_outflow, cumulative): max over steps of
+/// |V(t) − V(0) − added(t) + outflow(t)| over the most water the run should have held,
+/// max over steps of V(0) + added(t) − outflow(t). Without either, the one above.
+double water_volume_drift(const std::vector<double>& volume, const std::vector<double>& change,
+                          const std::vector<double>& added, const std::vector<double>& outflow);
 /// The symmetric difference of the last and first water over the first water's volume.
 double water_shape_error(double symmetric_difference, double initial_volume);
 

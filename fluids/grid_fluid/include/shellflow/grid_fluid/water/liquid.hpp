@@ -25,6 +25,7 @@
 #include "shellflow/grid_fluid/water/level_set_advector.hpp"
 #include "shellflow/grid_fluid/water/particle_level_set.hpp"
 #include "shellflow/grid_fluid/water/velocity_extrapolation.hpp"
+#include "shellflow/grid_fluid/water/volume_budget.hpp"
 #include "shellflow/grid_fluid/water/water_source.hpp"
 #include "shellflow/sdk/schema.hpp"
 
@@ -70,6 +71,10 @@ class Liquid {
     m_initial_volume = volume;
     m_initial_volume_measured = true;
   }
+  /// What the emitters added and the open sides let out since the start.
+  const VolumeBudget& budget() const { return m_budget; }
+  /// A restored run's.
+  void set_budget(const VolumeBudget& budget) { m_budget = budget; }
   /// φ is advected by MacCormack's corrected step ("advection": "maccormack").
   bool maccormack() const { return m_advector.maccormack(); }
 
@@ -80,7 +85,9 @@ class Liquid {
   /// on at t. Velocities elsewhere are extrapolated or zero (§4.4): not worth advecting.
   std::span<const std::uint8_t> velocity_nodes(double t, double dt, double max_speed);
   /// φ along the node velocities' rays, the particles along their second-order paths.
-  void advect(const NodeFields& velocity, double dt, const ShellGeometry& shells,
+  /// `t`: the time at the start of the step (the emitters on then, whose flow the budget
+  /// counts).
+  void advect(double t, const NodeFields& velocity, double dt, const ShellGeometry& shells,
               const geometry::ShellBand* band);
   void add_sources(double t, DomainBoundary& boundary);
   /// `swept` flags (0) the nodes the shells swept n → n+1 (SweptRefill); may be empty.
@@ -113,6 +120,9 @@ class Liquid {
   std::vector<std::uint8_t> m_valid;
   std::vector<double> m_cell_phi;
   std::array<bool, 6> m_walls{};  ///< sides of the domain that are walls
+  std::array<bool, 6> m_open{};   ///< sides of the domain that are open (outflow)
+  bool m_any_open = false;
+  VolumeBudget m_budget;
   FreeSurface m_surface;
   std::array<std::vector<std::uint8_t>, 3> m_known;
   std::vector<std::uint8_t> m_velocity_nodes;
