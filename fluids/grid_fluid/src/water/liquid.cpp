@@ -127,11 +127,17 @@ void Liquid::advect(double t, const NodeFields& velocity, double dt, const Shell
   m_invalid.clear();
   // The budget's flows over the step, from φ^n; an emitter's content is taken now and
   // again after add_sources() (it may gain water or lose it besides what flows out).
-  if (m_any_open) m_budget.outflow += open_side_outflow(m_level_set, velocity, m_open, dt);
+  const grid::UniformGrid& grid = m_level_set.grid();
+  if (m_any_open)
+    m_budget.outflow +=
+        box_outflow(m_level_set, velocity,
+                    {Eigen::Vector3i::Zero(), grid.cells() - Eigen::Vector3i::Ones()}, m_open, dt);
   for (const auto& s : m_sources)
-    if (s.active(t))
+    if (s.active(t)) {
+      const grid::IndexBox cells = emitter_cells(grid, s);
       m_budget.added +=
-          emitter_outflow(m_level_set, velocity, s, dt) - emitter_content(m_level_set, s);
+          box_outflow(m_level_set, velocity, cells, m_open, dt) - m_level_set.volume(cells);
+    }
   m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid);
   std::swap(m_level_set.phi(), m_scratch);
   m_stats.t_level_set += seconds_since(start);
@@ -145,7 +151,7 @@ void Liquid::add_sources(double t, DomainBoundary& boundary) {
   for (const auto& s : m_sources) {
     if (!s.active(t)) continue;
     const std::int64_t nodes = s.apply(t, m_level_set);
-    m_budget.added += emitter_content(m_level_set, s);  // advect() took the content before
+    m_budget.added += m_level_set.volume(emitter_cells(grid, s));  // advect(): before
     m_stats.source_nodes += nodes;
     // Its water gets particles this step (the band's 3Δx about it), not at the next reseed,
     // and loses the air particles it now covers.

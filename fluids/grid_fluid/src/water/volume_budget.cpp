@@ -25,11 +25,12 @@ double triangle_water_fraction(double a, double b, double c) {
 }
 
 /// The water [m^3] that node velocities constant over a step of dt carry across the face of
-/// family `axis` whose + side cell is `face`, towards `outward` (±1): what lies within
-/// u_n dt of it upstream (u_n the mean outward velocity of its four nodes; nothing where
-/// it is inward), the face's wet fraction integrated over that depth. Swept so, not as
-/// a rate: a surface passes a face within a step, and a rate at either end of the step
-/// then counts it half (a slab leaving through an open floor was short by 8%).
+/// family `axis` whose + side cell is `face`, towards `outward` (±1; negative: the other
+/// way): what lies within |u_n| dt of it upstream (u_n the mean outward velocity of its
+/// four nodes; upstream beyond the domain, its last plane of nodes, as the advection reads
+/// it), the face's wet fraction integrated over that depth. Swept so, not as a rate: a
+/// surface passes a face within a step, and a rate at either end of the step then counts
+/// it half (a slab leaving through an open floor was short by 8%).
 double swept_across_face(const LevelSet& level_set, const NodeFields& velocity, int axis,
                          const Eigen::Vector3i& face, double outward, double dt) {
   const grid::UniformGrid& grid = level_set.grid();
@@ -44,16 +45,16 @@ double swept_across_face(const LevelSet& level_set, const NodeFields& velocity, 
     corner[m] = grid.index(Location::Node, node);
     normal += 0.25 * outward * u[corner[m]];
   }
-  if (!(normal > 0.0)) return 0.0;
+  if (normal == 0.0) return 0.0;
   const double dx = grid.dx();
-  const double depth = normal * dt;
+  const double depth = std::abs(normal) * dt;
   // Upstream, layer by layer of cells: the cross-section's φ is linear in the distance
   // there, its wet fraction smooth between where its corners change sign, so three Gauss
   // points on each such piece integrate it to round-off (a flat surface's step exactly).
   const int planes = grid.counts(Location::Node)[axis];
   const std::int64_t stride = grid.index(Location::Node, Eigen::Vector3i::Unit(axis)) -
                               grid.index(Location::Node, Eigen::Vector3i::Zero());
-  const int step = outward > 0.0 ? -1 : 1;  // upstream, in planes
+  const int step = (normal > 0.0) == (outward > 0.0) ? -1 : 1;  // upstream, in planes
   const auto& phi = level_set.phi();
   double wet = 0.0;
   for (int layer = 0; layer * dx < depth; ++layer) {
@@ -90,18 +91,9 @@ double swept_across_face(const LevelSet& level_set, const NodeFields& velocity, 
                      5.0 / 9.0 * fraction(mid + kGauss * half));
     }
   }
-  return wet * dx * dx * dx;
+  return std::copysign(wet * dx * dx * dx, normal);
 }
 
-/// The emitter's cells: their box, and whether a cell (any coordinates) is one.
-struct EmitterCells {
-  grid::IndexBox box;
-  const WaterSource& source;
-  const grid::UniformGrid& grid;
-  bool contains(const Eigen::Vector3i& c) const {
-    return box.contains(c) && source.contains(grid.position(Location::Cell, c));
-  }
-};
 }  // namespace
 
 double face_water_fraction(const std::array<double, 4>& corner) {
@@ -109,67 +101,36 @@ double face_water_fraction(const std::array<double, 4>& corner) {
                 triangle_water_fraction(corner[0], corner[2], corner[3]));
 }
 
-double open_side_outflow(const LevelSet& level_set, const NodeFields& velocity,
-                         const std::array<bool, 6>& open, double dt) {
-  const Eigen::Vector3i cells = level_set.grid().cells();
+grid::IndexBox emitter_cells(const grid::UniformGrid& grid, const WaterSource& source) {
+  const grid::IndexBox nodes = source.bounding_nodes(grid, 0.0);
+  if (nodes.empty()) return nodes;
+  return {(nodes.lo.array() - 1).max(0).matrix(),
+          nodes.hi.cwiseMin(grid.cells() - Eigen::Vector3i::Ones())};
+}
+
+double box_outflow(const LevelSet& level_set, const NodeFields& velocity,
+                   const grid::IndexBox& cells, const std::array<bool, 6>& open, double dt) {
+  if (cells.empty()) return 0.0;
+  const Eigen::Vector3i n = level_set.grid().cells();
   double volume = 0.0;
   for (int side = 0; side < 6; ++side) {
-    if (!open[side]) continue;
     const int a = side / 2, b = (a + 1) % 3, c = (a + 2) % 3;
+    const bool max_side = side % 2 == 1;
+    const int plane = max_side ? cells.hi[a] + 1 : cells.lo[a];
+    // On the domain's side: the open sides' flow, nothing through a wall.
+    if ((plane == 0 || plane == n[a]) && !open[side]) continue;
     // One term per row of faces along b, each summed in order: the same bits on any
     // number of threads.
-    volume += ordered_sum(cells[c], [&](std::int64_t k) {
+    volume += ordered_sum(cells.hi[c] - cells.lo[c] + 1, [&](std::int64_t k) {
       double row = 0.0;
       Eigen::Vector3i face;
-      face[a] = side % 2 == 0 ? 0 : cells[a];
-      face[c] = static_cast<int>(k);
-      for (face[b] = 0; face[b] < cells[b]; ++face[b])
-        row += swept_across_face(level_set, velocity, a, face, side % 2 == 0 ? -1.0 : 1.0, dt);
+      face[a] = plane;
+      face[c] = cells.lo[c] + static_cast<int>(k);
+      for (face[b] = cells.lo[b]; face[b] <= cells.hi[b]; ++face[b])
+        row += swept_across_face(level_set, velocity, a, face, max_side ? 1.0 : -1.0, dt);
       return row;
     });
   }
-  return volume;
-}
-
-double emitter_content(const LevelSet& level_set, const WaterSource& source) {
-  const grid::UniformGrid& grid = level_set.grid();
-  const EmitterCells cells{source.bounding_cells(grid), source, grid};
-  double sum = 0.0;
-  for (int k = cells.box.lo.z(); k <= cells.box.hi.z(); ++k)
-    for (int j = cells.box.lo.y(); j <= cells.box.hi.y(); ++j)
-      for (int i = cells.box.lo.x(); i <= cells.box.hi.x(); ++i) {
-        const Eigen::Vector3i c(i, j, k);
-        if (!cells.contains(c)) continue;
-        std::array<double, 8> corner;
-        for (int m = 0; m < 8; ++m)
-          corner[m] = level_set.phi()[grid.index(Location::Node, c + corner_step(m))];
-        sum += LevelSet::cell_fraction(corner);
-      }
-  return sum * grid.dx() * grid.dx() * grid.dx();
-}
-
-double emitter_outflow(const LevelSet& level_set, const NodeFields& velocity,
-                       const WaterSource& source, double dt) {
-  const grid::UniformGrid& grid = level_set.grid();
-  const EmitterCells cells{source.bounding_cells(grid), source, grid};
-  const Eigen::Vector3i n = grid.cells();
-  double volume = 0.0;
-  for (int k = cells.box.lo.z(); k <= cells.box.hi.z(); ++k)
-    for (int j = cells.box.lo.y(); j <= cells.box.hi.y(); ++j)
-      for (int i = cells.box.lo.x(); i <= cells.box.hi.x(); ++i) {
-        const Eigen::Vector3i c(i, j, k);
-        if (!cells.contains(c)) continue;
-        for (int a = 0; a < 3; ++a)
-          for (int side = 0; side < 2; ++side) {
-            Eigen::Vector3i next = c;
-            next[a] += side == 0 ? -1 : 1;
-            // Into another cell of the domain (a domain side is the open sides' or closed).
-            if (next[a] < 0 || next[a] >= n[a] || cells.contains(next)) continue;
-            const Eigen::Vector3i face = side == 0 ? c : next;
-            volume +=
-                swept_across_face(level_set, velocity, a, face, side == 0 ? -1.0 : 1.0, dt);
-          }
-      }
   return volume;
 }
 
