@@ -125,19 +125,22 @@ void Liquid::advect(double t, const NodeFields& velocity, double dt, const Shell
   const auto start = std::chrono::steady_clock::now();
   m_stats = LiquidStats{};
   m_invalid.clear();
-  // The budget's flows over the step, from φ^n; an emitter's content is taken now and
-  // again after add_sources() (it may gain water or lose it besides what flows out).
+  // The volume budget's flows over the step, from φ^n.
   const grid::UniformGrid& grid = m_level_set.grid();
   if (m_any_open)
     m_budget.outflow +=
         box_outflow(m_level_set, velocity,
                     {Eigen::Vector3i::Zero(), grid.cells() - Eigen::Vector3i::Ones()}, m_open, dt);
-  for (const auto& s : m_sources)
-    if (s.active(t)) {
-      const grid::IndexBox cells = emitter_cells(grid, s);
-      m_budget.added +=
-          box_outflow(m_level_set, velocity, cells, m_open, dt) - m_level_set.volume(cells);
-    }
+  // An emitter with a velocity adds its fill (its first step) and then the flow its held
+  // faces impose; one without, whatever apply() sets (its water leaves by the fluid's
+  // velocity and apply() tops it up).
+  m_emitter_filling.assign(m_sources.size(), 1);
+  for (size_t i = 0; i < m_sources.size(); ++i) {
+    const WaterSource& s = m_sources[i];
+    if (!s.active(t) || !s.velocity() || emitter_content(m_level_set, s) == 0.0) continue;
+    m_emitter_filling[i] = 0;
+    m_budget.added += emitter_held_flow(grid, s, t) * dt;
+  }
   m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid);
   std::swap(m_level_set.phi(), m_scratch);
   m_stats.t_level_set += seconds_since(start);
@@ -148,10 +151,14 @@ void Liquid::add_sources(double t, DomainBoundary& boundary) {
   const auto start = std::chrono::steady_clock::now();
   m_emitting.clear();
   const grid::UniformGrid& grid = m_level_set.grid();
-  for (const auto& s : m_sources) {
+  for (size_t i = 0; i < m_sources.size(); ++i) {
+    const WaterSource& s = m_sources[i];
     if (!s.active(t)) continue;
+    const grid::IndexBox reach = emitter_reach(m_level_set, s);
+    const bool counted = m_emitter_filling.size() <= i || m_emitter_filling[i] != 0;
+    const double before = counted ? m_level_set.volume(reach) : 0.0;
     const std::int64_t nodes = s.apply(t, m_level_set);
-    m_budget.added += m_level_set.volume(emitter_cells(grid, s));  // advect(): before
+    if (counted) m_budget.added += m_level_set.volume(reach) - before;
     m_stats.source_nodes += nodes;
     // Its water gets particles this step (the band's 3Δx about it), not at the next reseed,
     // and loses the air particles it now covers.

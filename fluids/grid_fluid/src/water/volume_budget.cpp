@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/mac/ordered_sum.hpp"
 
 namespace shellflow::grid_fluid {
@@ -76,7 +78,8 @@ double swept_across_face(const LevelSet& level_set, const NodeFields& velocity, 
         if (at > 0.0 && at < end) cuts[count++] = at;
       }
     cuts[count++] = end;
-    std::sort(cuts.begin(), cuts.begin() + count);
+    for (int x = 1; x < count; ++x)  // insertion sort: at most six
+      for (int y = x; y > 0 && cuts[y] < cuts[y - 1]; --y) std::swap(cuts[y], cuts[y - 1]);
     const auto fraction = [&](double f) {
       std::array<double, 4> section;
       for (int m = 0; m < 4; ++m) section[m] = (1.0 - f) * near[m] + f * far[m];
@@ -101,11 +104,58 @@ double face_water_fraction(const std::array<double, 4>& corner) {
                 triangle_water_fraction(corner[0], corner[2], corner[3]));
 }
 
-grid::IndexBox emitter_cells(const grid::UniformGrid& grid, const WaterSource& source) {
-  const grid::IndexBox nodes = source.bounding_nodes(grid, 0.0);
+grid::IndexBox emitter_reach(const LevelSet& level_set, const WaterSource& source) {
+  const grid::UniformGrid& grid = level_set.grid();
+  const grid::IndexBox nodes = source.bounding_nodes(grid, level_set.band());
   if (nodes.empty()) return nodes;
   return {(nodes.lo.array() - 1).max(0).matrix(),
           nodes.hi.cwiseMin(grid.cells() - Eigen::Vector3i::Ones())};
+}
+
+namespace {
+/// Is cell c (any coordinates) one of the emitter's: in the grid, its centre inside?
+bool emitter_cell(const grid::UniformGrid& grid, const WaterSource& source,
+                  const Eigen::Vector3i& c) {
+  if ((c.array() < 0).any() || (c.array() >= grid.cells().array()).any()) return false;
+  return source.contains(grid.position(Location::Cell, c));
+}
+}  // namespace
+
+double emitter_content(const LevelSet& level_set, const WaterSource& source) {
+  const grid::UniformGrid& grid = level_set.grid();
+  const grid::IndexBox box = source.bounding_cells(grid);
+  double sum = 0.0;
+  for (int k = box.lo.z(); k <= box.hi.z(); ++k)
+    for (int j = box.lo.y(); j <= box.hi.y(); ++j)
+      for (int i = box.lo.x(); i <= box.hi.x(); ++i) {
+        const Eigen::Vector3i c(i, j, k);
+        if (!emitter_cell(grid, source, c)) continue;
+        std::array<double, 8> corner;
+        for (int m = 0; m < 8; ++m)
+          corner[m] = level_set.phi()[grid.index(Location::Node, c + corner_step(m))];
+        sum += LevelSet::cell_fraction(corner);
+      }
+  return sum * grid.dx() * grid.dx() * grid.dx();
+}
+
+double emitter_held_flow(const grid::UniformGrid& grid, const WaterSource& source, double t) {
+  const Eigen::Vector3i n = grid.cells();
+  double flow = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    std::vector<SourceFace> faces;
+    source.append_faces(t, grid, a, faces);
+    const Location loc = face_location(a);
+    for (const SourceFace& f : faces) {
+      const Eigen::Vector3i face = grid.coordinates(loc, f.face);
+      if (face[a] == 0 || face[a] == n[a]) continue;  // on the domain's side: no cell beyond
+      Eigen::Vector3i minus = face;
+      minus[a] -= 1;
+      const bool in_minus = emitter_cell(grid, source, minus);
+      if (in_minus == emitter_cell(grid, source, face)) continue;  // not on its surface
+      flow += std::max(0.0, (in_minus ? 1.0 : -1.0) * f.velocity[a]);
+    }
+  }
+  return flow * grid.dx() * grid.dx();
 }
 
 double box_outflow(const LevelSet& level_set, const NodeFields& velocity,

@@ -123,6 +123,7 @@ class Liquid {
   std::array<bool, 6> m_open{};   ///< sides of the domain that are open (outflow)
   bool m_any_open = false;
   VolumeBudget m_budget;
+  std::vector<std::uint8_t> m_emitter_filling;  ///< per emitter, this step: apply() counts
   FreeSurface m_surface;
   std::array<std::vector<std::uint8_t>, 3> m_known;
   std::vector<std::uint8_t> m_velocity_nodes;

@@ -29,6 +29,12 @@ class WaterSource {
   grid::IndexBox bounding_nodes(const grid::UniformGrid& grid, double margin) const {
     return m_emitter.bounding_samples(grid, grid::Location::Node, margin);
   }
+  /// Does the emitter's shape contain p?
+  bool contains(const Eigen::Vector3d& p) const { return m_emitter.contains(p); }
+  /// The cells whose centre may lie inside it (clamped to the grid).
+  grid::IndexBox bounding_cells(const grid::UniformGrid& grid) const {
+    return m_emitter.bounding_samples(grid, grid::Location::Cell, 0.0);
+  }
   /// The held faces of family `axis` (SmokeSource::append_faces with a closed intake).
   void append_faces(double t, const grid::UniformGrid& grid, int axis,
                     std::vector<SourceFace>& out) const {
