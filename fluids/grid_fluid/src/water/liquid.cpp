@@ -127,10 +127,7 @@ void Liquid::advect(double t, const NodeFields& velocity, double dt, const Shell
   m_invalid.clear();
   // The volume budget's flows over the step, from φ^n.
   const grid::UniformGrid& grid = m_level_set.grid();
-  if (m_any_open)
-    m_budget.outflow +=
-        box_outflow(m_level_set, velocity,
-                    {Eigen::Vector3i::Zero(), grid.cells() - Eigen::Vector3i::Ones()}, m_open, dt);
+  if (m_any_open) m_budget.outflow += open_side_outflow(m_level_set, velocity, m_open, dt);
   // An emitter with a velocity adds its fill (its first step) and then the flow its held
   // faces impose; one without, whatever apply() sets (its water leaves by the fluid's
   // velocity and apply() tops it up).

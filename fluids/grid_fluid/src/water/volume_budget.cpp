@@ -158,25 +158,22 @@ double emitter_held_flow(const grid::UniformGrid& grid, const WaterSource& sourc
   return flow * grid.dx() * grid.dx();
 }
 
-double box_outflow(const LevelSet& level_set, const NodeFields& velocity,
-                   const grid::IndexBox& cells, const std::array<bool, 6>& open, double dt) {
-  if (cells.empty()) return 0.0;
+double open_side_outflow(const LevelSet& level_set, const NodeFields& velocity,
+                         const std::array<bool, 6>& open, double dt) {
   const Eigen::Vector3i n = level_set.grid().cells();
   double volume = 0.0;
   for (int side = 0; side < 6; ++side) {
+    if (!open[side]) continue;
     const int a = side / 2, b = (a + 1) % 3, c = (a + 2) % 3;
     const bool max_side = side % 2 == 1;
-    const int plane = max_side ? cells.hi[a] + 1 : cells.lo[a];
-    // On the domain's side: the open sides' flow, nothing through a wall.
-    if ((plane == 0 || plane == n[a]) && !open[side]) continue;
     // One term per row of faces along b, each summed in order: the same bits on any
     // number of threads.
-    volume += ordered_sum(cells.hi[c] - cells.lo[c] + 1, [&](std::int64_t k) {
+    volume += ordered_sum(n[c], [&](std::int64_t k) {
       double row = 0.0;
       Eigen::Vector3i face;
-      face[a] = plane;
-      face[c] = cells.lo[c] + static_cast<int>(k);
-      for (face[b] = cells.lo[b]; face[b] <= cells.hi[b]; ++face[b])
+      face[a] = max_side ? n[a] : 0;
+      face[c] = static_cast<int>(k);
+      for (face[b] = 0; face[b] < n[b]; ++face[b])
         row += swept_across_face(level_set, velocity, a, face, max_side ? 1.0 : -1.0, dt);
       return row;
     });

@@ -48,11 +48,9 @@ double emitter_content(const LevelSet& level_set, const WaterSource& source);
 /// cylinder (44 Δx² for the cloth funnel's 3.6 cells, +8 %).
 double emitter_held_flow(const grid::UniformGrid& grid, const WaterSource& source, double t);
 
-/// The net water [m^3] that `velocity` carries out of the box of `cells` in a step of dt,
-/// from φ at its start (inflow counts negative); across the domain's sides only where
-/// they are open (`open[2 * axis + max_side]`). The whole grid's box: the open sides'
-/// outflow.
-double box_outflow(const LevelSet& level_set, const NodeFields& velocity,
-                   const grid::IndexBox& cells, const std::array<bool, 6>& open, double dt);
+/// The net water [m^3] that `velocity` carries out through the open sides of the domain
+/// (`open[2 * axis + max_side]`) in a step of dt, from φ at its start (inflow negative).
+double open_side_outflow(const LevelSet& level_set, const NodeFields& velocity,
+                         const std::array<bool, 6>& open, double dt);
 
 }  // namespace shellflow::grid_fluid
