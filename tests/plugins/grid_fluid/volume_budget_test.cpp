@@ -32,9 +32,9 @@ double wet_area(double p, double q, double r) {
 TEST(VolumeBudget, AFaceWetFractionIsExactForALinearLevelSet) {
   // φ = p + q x + r y is linear on each of the face's triangles, so the fraction is exact
   // (to round-off) for every line, whichever diagonal the face is cut along.
-  const double cases[][3] = {{-0.3, 1.0, 0.0001},  {0.2, -1.0, -0.5}, {-0.5, 1.0, 1.0},
-                             {-1.2, 1.0, 1.0},     {0.3, -0.4, 1.0},  {-0.1, 0.7, -0.9},
-                             {-0.25, 0.5, 0.25},   {5.0, 1.0, 1.0},   {-5.0, 1.0, 1.0}};
+  const double cases[][3] = {{-0.3, 1.0, 0.0001}, {0.2, -1.0, -0.5}, {-0.5, 1.0, 1.0},
+                             {-1.2, 1.0, 1.0},    {0.3, -0.4, 1.0},  {-0.1, 0.7, -0.9},
+                             {-0.25, 0.5, 0.25},  {5.0, 1.0, 1.0},   {-5.0, 1.0, 1.0}};
   for (const auto& c : cases) {
     const auto phi = [&](double x, double y) { return c[0] + c[1] * x + c[2] * y; };
     const std::array<double, 4> corner = {phi(0, 0), phi(1, 0), phi(0, 1), phi(1, 1)};
@@ -78,9 +78,10 @@ TEST(VolumeBudget, WaterFallingThroughAnOpenFloorIsCountedOut) {
   const double out = test::reported(*fluid, "water_volume_outflow");
   const double left = test::reported(*fluid, "water_volume");
   const double drift = test::reported(*fluid, "water_volume_drift");
-  std::printf("[  figure  ] slab through an open floor: V0 %.6f, out %.9f (%.9f of %.9f lost "
-              "at 0.28 s), left %.2e\n",
-              v0, out, partway, lost, left);
+  std::printf(
+      "[  figure  ] slab through an open floor: V0 %.6f, out %.9f (%.9f of %.9f lost "
+      "at 0.28 s), left %.2e\n",
+      v0, out, partway, lost, left);
   EXPECT_GT(partway, 0.1 * v0);  // part of it had left, not all
   EXPECT_LT(partway, 0.9 * v0);
   EXPECT_NEAR(partway, lost, 1e-9 * v0);
