@@ -514,6 +514,11 @@ void GridFluid::save(sdk::StateWriter& out) const {
     out.write(m_liquid->initial_volume());
     out.write(m_liquid->budget().added);
     out.write(m_liquid->budget().outflow);
+    if (const PhaseDrift* d = m_liquid->phase_drift()) {
+      for (const double v : {d->advection, d->shells, d->reinitialization, d->between_steps})
+        out.write(v);
+      out.write(m_liquid->phase_end());
+    }
   }
 }
 
@@ -548,6 +553,12 @@ void GridFluid::restore(sdk::StateReader& in) {
     budget.added = in.read<double>();
     budget.outflow = in.read<double>();
     m_liquid->set_budget(budget);
+  }
+  if (m_liquid && m_liquid->phase_drift() && !in.at_end()) {
+    PhaseDrift d;
+    for (double* v : {&d.advection, &d.shells, &d.reinitialization, &d.between_steps})
+      *v = in.read<double>();
+    m_liquid->set_phase_drift(d, in.read<double>());
   }
   m_geometry_n.reset();
   m_geometry_np1.reset();
@@ -668,6 +679,12 @@ void GridFluid::report(sdk::Metrics& out) const {
     out.set("water_volume_outflow", budget.outflow);
     out.set("water_volume_drift",
             volume - m_liquid->initial_volume() - budget.added + budget.outflow);
+    if (const PhaseDrift* d = m_liquid->phase_drift()) {
+      out.set("water_drift_advection", d->advection);
+      out.set("water_drift_shells", d->shells);
+      out.set("water_drift_reinitialization", d->reinitialization);
+      out.set("water_drift_between_steps", d->between_steps);
+    }
     if (m_prescribed)
       out.set("water_symmetric_difference",
               m_liquid->level_set().symmetric_difference(m_initial_phi));

@@ -14,6 +14,7 @@
 
 #include <array>
 #include <chrono>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <vector>
 
@@ -75,6 +76,14 @@ class Liquid {
   const VolumeBudget& budget() const { return m_budget; }
   /// A restored run's.
   void set_budget(const VolumeBudget& budget) { m_budget = budget; }
+  /// Where the drift arose ("volume_by_phase"; null when off).
+  const PhaseDrift* phase_drift() const { return m_by_phase ? &m_phase_drift : nullptr; }
+  /// A restored run's, and the volume its last step ended with.
+  void set_phase_drift(const PhaseDrift& drift, double last_end) {
+    m_phase_drift = drift;
+    m_phase_end = last_end;
+  }
+  double phase_end() const { return m_phase_end; }
   /// φ is advected by MacCormack's corrected step ("advection": "maccormack").
   bool maccormack() const { return m_advector.maccormack(); }
 
@@ -124,6 +133,16 @@ class Liquid {
   bool m_any_open = false;
   VolumeBudget m_budget;
   std::vector<std::uint8_t> m_emitter_filling;  ///< per emitter, this step: apply() counts
+  // "volume_by_phase": the sums, the volume at the last phase's end (NaN before the first
+  // step), and this step's shells at n and band (set by advect()).
+  bool m_by_phase = false;
+  PhaseDrift m_phase_drift;
+  double m_phase_end = std::numeric_limits<double>::quiet_NaN();
+  VolumeBudget m_phase_budget;  ///< the budget at the step's start
+  const ShellGeometry* m_phase_shells_n = nullptr;
+  const geometry::ShellBand* m_phase_band = nullptr;
+  /// Measures the water after a phase, adds its change to `phase`.
+  void end_phase(double& phase, const ShellGeometry* shells);
   FreeSurface m_surface;
   std::array<std::vector<std::uint8_t>, 3> m_known;
   std::vector<std::uint8_t> m_velocity_nodes;

@@ -30,6 +30,18 @@ struct VolumeBudget {
   double outflow = 0.0;  ///< [m^3] through the open sides since the start
 };
 
+/// Where the drift arose, with "volume_by_phase" on: the water measured between the phases
+/// of each step (four more measures a step), each phase's change summed since the start
+/// [m^3]. Their sum is water_volume_drift, exactly without shells; with shells, up to the
+/// measure's change at the last step's report (cells a shell cuts count two-sided only in
+/// the band of cells of the step).
+struct PhaseDrift {
+  double advection = 0.0;         ///< φ's advection and the emitters, less the budget's flows
+  double shells = 0.0;            ///< the shells' move n → n+1 and the refill of swept nodes
+  double reinitialization = 0.0;  ///< the particles' corrections and fast marching
+  double between_steps = 0.0;     ///< the measure's own change from one step to the next
+};
+
 /// The fraction of a square face where φ's linear interpolant on its two triangles (about
 /// the diagonal from corner 0 to corner 3) is below zero; corners c = i + 2j over the
 /// face's two axes.
