@@ -194,7 +194,8 @@ TEST(VolumeBudget, ThePhasesDriftsAddUpToTheDrift) {
   // "volume_by_phase": the water measured between the phases of each step. Without shells
   // the measure does not depend on the step's band, so the phases' sums add up to
   // water_volume_drift to round-off; a collapsing column, a stream and an open floor make
-  // every phase move water. Off, none is written.
+  // every phase move water; a prescribed velocity's advection counts as advection. Off,
+  // none is written.
   auto water = nlohmann::json{
       {"volume_by_phase", true},
       {"initial", {{{"type", "box"}, {"min", {0.0, 0.0, 0.0}}, {"max", {0.3, 0.5, 1.0}}}}},
@@ -218,6 +219,21 @@ TEST(VolumeBudget, ThePhasesDriftsAddUpToTheDrift) {
   EXPECT_NE(advection, 0.0);
   EXPECT_NE(reinitialization, 0.0);
   EXPECT_NEAR(sum, drift, 1e-12);
+  // A prescribed velocity (no emitters, no projection): its advection is advection's too.
+  auto carried = test::make_fluid(
+      {{"resolution", 16},
+       {"water",
+        {{"volume_by_phase", true},
+         {"initial", {{{"type", "sphere"}, {"center", {0.35, 0.35, 0.35}}, {"radius", 0.15}}}}}},
+       {"prescribed_velocity", {{"type", "deformation"}, {"period", 3.0}}}},
+      Eigen::Vector3d::Zero());
+  run_for(*carried, 0.3);
+  EXPECT_NE(test::reported(*carried, "water_drift_advection"), 0.0);
+  EXPECT_EQ(test::reported(*carried, "water_drift_shells"), 0.0);
+  EXPECT_NEAR(test::reported(*carried, "water_drift_advection") +
+                  test::reported(*carried, "water_drift_reinitialization") +
+                  test::reported(*carried, "water_drift_between_steps"),
+              test::reported(*carried, "water_volume_drift"), 1e-12);
   water["volume_by_phase"] = false;
   auto off = test::make_fluid(tank(water));
   sdk::Metrics m;

@@ -60,7 +60,7 @@ sdk::Schema Liquid::schema() {
       .field("particles", ParticleLevelSet::schema())
       .field("volume_by_phase",
              Schema::boolean(false).doc(
-                 "measure the water between the phases of each step (four more volume "
+                 "measure the water between the phases of each step (five more volume "
                  "measures a step) and write where water_volume_drift arose: "
                  "water_drift_advection, water_drift_shells, water_drift_reinitialization, "
                  "water_drift_between_steps"))
@@ -155,6 +155,7 @@ void Liquid::advect(double t, const NodeFields& velocity, double dt, const Shell
   }
   m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid);
   std::swap(m_level_set.phi(), m_scratch);
+  if (m_by_phase) end_phase(m_phase_drift.advection, &shells);  // and again after the emitters
   m_stats.t_level_set += seconds_since(start);
   m_particles.advect(velocity, dt, shells, band);
 }
@@ -184,11 +185,7 @@ void Liquid::add_sources(double t, DomainBoundary& boundary) {
     for (const auto& s : m_sources) s.append_faces(t, m_level_set.grid(), a, faces);
     boundary.set_source_faces(a, std::move(faces));
   }
-  if (m_by_phase) {
-    end_phase(m_phase_drift.advection, m_phase_shells_n);
-    m_phase_drift.advection -=
-        (m_budget.added - m_phase_budget.added) - (m_budget.outflow - m_phase_budget.outflow);
-  }
+  if (m_by_phase) end_phase(m_phase_drift.advection, m_phase_shells_n);
   m_stats.t_level_set += seconds_since(start);
 }
 
@@ -227,7 +224,12 @@ void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& sh
   for (const grid::IndexBox& box : m_emitting) m_particles.top_up(m_level_set, shells, box);
   m_particles.reseed_if_due(t_end, m_level_set, shells);
   m_stats.particles = m_particles.stats();
-  if (m_by_phase) end_phase(m_phase_drift.reinitialization, &shells);
+  if (m_by_phase) {
+    end_phase(m_phase_drift.reinitialization, &shells);
+    // What the budget counted this step (emitters, open sides) is no drift.
+    m_phase_drift.advection -=
+        (m_budget.added - m_phase_budget.added) - (m_budget.outflow - m_phase_budget.outflow);
+  }
 }
 
 const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::ShellBand* band) {

@@ -31,7 +31,7 @@ struct VolumeBudget {
 };
 
 /// Where the drift arose, with "volume_by_phase" on: the water measured between the phases
-/// of each step (four more measures a step), each phase's change summed since the start
+/// of each step (five more measures a step), each phase's change summed since the start
 /// [m^3]. Their sum is water_volume_drift, exactly without shells; with shells, up to the
 /// measure's change at the last step's report (cells a shell cuts count two-sided only in
 /// the band of cells of the step).
