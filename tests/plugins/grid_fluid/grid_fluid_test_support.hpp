@@ -1,11 +1,12 @@
 #pragma once
 // Helpers shared by the grid_fluid tests: a validated GridFluid from a JSON snippet, the
 // water surface height on a node line, shells built in the test (a flat plate), a rigid
-// shell that only translates along one axis (the smallest two-way solid), and the value of
-// one reported metric.
+// shell that only translates along one axis (the smallest two-way solid), the value of one
+// reported metric, and a run of static shells at the CFL step.
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -162,6 +163,22 @@ inline double surface_height(const GridFluid& f, double x, double z) {
     phi_below = phi;
   }
   return -1.0;
+}
+
+/// Runs `f` with static `shells` for `duration` seconds from t = 0 at the CFL step (0.9);
+/// returns the steps taken.
+inline int run_for(GridFluid& f, double duration, sdk::ShellSet shells = {},
+                   const std::vector<sdk::Positions>& v_eff = {}) {
+  double t = 0.0;
+  int steps = 0;
+  while (t < duration - 1e-12) {
+    const double dt = std::min(f.stable_dt(0.9), duration - t);
+    f.advect(t, dt, shells, shells);
+    f.project(dt, shells, v_eff);
+    t += dt;
+    ++steps;
+  }
+  return steps;
 }
 
 }  // namespace shellflow::grid_fluid::test

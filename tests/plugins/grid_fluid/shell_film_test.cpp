@@ -95,7 +95,7 @@ TEST(ShellFilm, APathBackIntoTheShellSlidesAlongItAndKeepsTheFilm) {
   const Eigen::Vector3d n = tilt() * Eigen::Vector3d::UnitY();
   const Eigen::Vector3d along = tilt() * Eigen::Vector3d(1.0, 0.0, 0.4).normalized();
   const double dt = 0.4 * dx;  // up to a cell a step at the speeds below
-  for (const Eigen::Vector3d plate_velocity :
+  for (const Eigen::Vector3d& plate_velocity :
        {Eigen::Vector3d::Zero().eval(), (-0.3 * n + 0.2 * along).eval()}) {
     sdk::ShellSurface plate = test::make_plate(c, n, 1.4, 15);
     plate.velocities.rowwise() = plate_velocity.transpose();

@@ -29,6 +29,7 @@ double max_face_speed(const GridFluid& f) {
   return f.mac().max_face_speed();
 }
 
+using test::run_for;
 using test::surface_height;
 
 void run_steps(GridFluid& f, int steps, double dt, sdk::ShellSet shells,
@@ -39,21 +40,6 @@ void run_steps(GridFluid& f, int steps, double dt, sdk::ShellSet shells,
     f.project(dt, shells, v_eff);
     t += dt;
   }
-}
-
-/// Runs static shells for `duration` seconds at the CFL step (0.9); returns the steps taken.
-int run_for(GridFluid& f, double duration, sdk::ShellSet shells,
-            const std::vector<sdk::Positions>& v_eff) {
-  double t = 0.0;
-  int steps = 0;
-  while (t < duration - 1e-12) {
-    const double dt = std::min(f.stable_dt(0.9), duration - t);
-    f.advect(t, dt, shells, shells);
-    f.project(dt, shells, v_eff);
-    t += dt;
-    ++steps;
-  }
-  return steps;
 }
 
 TEST(Water, PoolAtRestInAClosedTankStaysAtRest) {

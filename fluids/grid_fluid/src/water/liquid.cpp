@@ -92,13 +92,13 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   for (int s = 0; s < 6; ++s) {
     m_walls[s] = boundary.side(s / 2, s % 2).type == BoundaryType::Wall;
     m_open[s] = boundary.side(s / 2, s % 2).type == BoundaryType::Open;
-    m_any_open = m_any_open || m_open[s];
   }
   m_particles.set_walls(m_walls);
   fill_initial_water(params.at("initial"), up, "/water/initial", m_level_set);
   const auto& sources = params.at("sources");
   for (size_t i = 0; i < sources.size(); ++i)
     m_sources.emplace_back(sources[i], "/water/sources/" + std::to_string(i));
+  m_held_flow.assign(m_sources.size(), std::numeric_limits<double>::quiet_NaN());
   m_scratch = m_level_set.phi();
   m_valid.assign(m_level_set.phi().size(), 1);
   // The pools' planes and boxes are exact distances; meshes and unions are made one.
@@ -142,16 +142,18 @@ void Liquid::advect(double t, const NodeFields& velocity, double dt, const Shell
   }
   // The volume budget's flows over the step, from φ^n.
   const grid::UniformGrid& grid = m_level_set.grid();
-  if (m_any_open) m_budget.outflow += open_side_outflow(m_level_set, velocity, m_open, dt);
+  m_budget.outflow += open_side_outflow(m_level_set, velocity, m_open, dt);
   // An emitter with a velocity adds its fill (its first step) and then the flow its held
   // faces impose; one without, whatever apply() sets (its water leaves by the fluid's
   // velocity and apply() tops it up).
   m_emitter_filling.assign(m_sources.size(), 1);
   for (size_t i = 0; i < m_sources.size(); ++i) {
     const WaterSource& s = m_sources[i];
-    if (!s.active(t) || !s.velocity() || emitter_content(m_level_set, s) == 0.0) continue;
+    if (!s.active(t) || !s.velocity() || !emitter_has_water(m_level_set, s)) continue;
     m_emitter_filling[i] = 0;
-    m_budget.added += emitter_held_flow(grid, s, t) * dt;
+    // The emitter and its velocity stay put: its held faces' flow once, at a time it is on.
+    if (std::isnan(m_held_flow[i])) m_held_flow[i] = emitter_held_flow(grid, s, t);
+    m_budget.added += m_held_flow[i] * dt;
   }
   m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid);
   std::swap(m_level_set.phi(), m_scratch);

@@ -121,10 +121,9 @@ bool emitter_cell(const grid::UniformGrid& grid, const WaterSource& source,
 }
 }  // namespace
 
-double emitter_content(const LevelSet& level_set, const WaterSource& source) {
+bool emitter_has_water(const LevelSet& level_set, const WaterSource& source) {
   const grid::UniformGrid& grid = level_set.grid();
   const grid::IndexBox box = source.bounding_cells(grid);
-  double sum = 0.0;
   for (int k = box.lo.z(); k <= box.hi.z(); ++k)
     for (int j = box.lo.y(); j <= box.hi.y(); ++j)
       for (int i = box.lo.x(); i <= box.hi.x(); ++i) {
@@ -133,9 +132,9 @@ double emitter_content(const LevelSet& level_set, const WaterSource& source) {
         std::array<double, 8> corner;
         for (int m = 0; m < 8; ++m)
           corner[m] = level_set.phi()[grid.index(Location::Node, c + corner_step(m))];
-        sum += LevelSet::cell_fraction(corner);
+        if (LevelSet::cell_fraction(corner) > 0.0) return true;
       }
-  return sum * grid.dx() * grid.dx() * grid.dx();
+  return false;
 }
 
 double emitter_held_flow(const grid::UniformGrid& grid, const WaterSource& source, double t) {

@@ -130,9 +130,9 @@ class Liquid {
   std::vector<double> m_cell_phi;
   std::array<bool, 6> m_walls{};  ///< sides of the domain that are walls
   std::array<bool, 6> m_open{};   ///< sides of the domain that are open (outflow)
-  bool m_any_open = false;
   VolumeBudget m_budget;
   std::vector<std::uint8_t> m_emitter_filling;  ///< per emitter, this step: apply() counts
+  std::vector<double> m_held_flow;  ///< per emitter, emitter_held_flow() once known (else NaN)
   // "volume_by_phase": the sums, the volume at the last phase's end (NaN before the first
   // step), and this step's shells at n and band (set by advect()).
   bool m_by_phase = false;

@@ -51,11 +51,12 @@ double face_water_fraction(const std::array<double, 4>& corner);
 /// (within the level set's band of it), clamped to the grid.
 grid::IndexBox emitter_reach(const LevelSet& level_set, const WaterSource& source);
 
-/// The water in the emitter's own cells (their centre inside it) [m^3].
-double emitter_content(const LevelSet& level_set, const WaterSource& source);
+/// Does any of the emitter's own cells (their centre inside it) hold water?
+bool emitter_has_water(const LevelSet& level_set, const WaterSource& source);
 
-/// The flow [m^3/s] the emitter's held faces let out at t: over the faces between its
-/// cells and the rest of the domain, the held velocity's outward part × Δx². What they
+/// The flow [m^3/s] the emitter's held faces let out while it is on (t: a time it is on;
+/// the same at any): over the faces between its cells and the rest of the domain, the held
+/// velocity's outward part × Δx². What they
 /// impose on the divergence-free velocity, exactly: the cells' staircase, not π r² for a
 /// cylinder (44 Δx² for the cloth funnel's 3.6 cells, +8 %).
 double emitter_held_flow(const grid::UniformGrid& grid, const WaterSource& source, double t);
