@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "shellflow/geometry/mesh_edges.hpp"
+
 namespace shellflow::grid_fluid {
 
 ShellGeometry::ShellGeometry(sdk::ShellSet shells, double epsilon) : m_epsilon(epsilon) {
@@ -122,6 +124,38 @@ Eigen::Vector3d ShellGeometry::object_velocity(const Eigen::Vector3d& a,
   return best.shell >= 0 ? velocity_at(best) : Eigen::Vector3d::Zero();
 }
 
+bool ShellGeometry::on_open_edge(int s, int t, const Eigen::Vector3d& barycentric) const {
+  const Shell& shell = *m_shells[s];
+  std::call_once(shell.open_once, [&shell] {
+    const sdk::Triangles& tri = *shell.triangles;
+    std::vector<std::array<int, 3>> corners(tri.rows());
+    for (Eigen::Index t = 0; t < tri.rows(); ++t) corners[t] = {tri(t, 0), tri(t, 1), tri(t, 2)};
+    const geometry::MeshEdges edges(corners);
+    shell.open_edges.assign(corners.size(), 0);
+    shell.open_nodes.assign(shell.positions.rows(), 0);
+    for (size_t t = 0; t < corners.size(); ++t)
+      for (int k = 0; k < 3; ++k) {  // edge k joins corners k, k + 1: opposite corner k + 2
+        const int e = edges.triangle_edges[t][k];
+        if (edges.edge_start[e + 1] - edges.edge_start[e] != 1) continue;
+        shell.open_edges[t] |= std::uint8_t(1u << ((k + 2) % 3));
+        shell.open_nodes[corners[t][k]] = shell.open_nodes[corners[t][(k + 1) % 3]] = 1;
+      }
+  });
+  // Ericson's closest point gives exact zeros off the face's interior.
+  int zeros = 0, corner = 0, opposite = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (barycentric[k] == 0.0) {
+      ++zeros;
+      opposite = k;
+    } else {
+      corner = k;
+    }
+  }
+  if (zeros == 0) return false;
+  if (zeros == 1) return (shell.open_edges[t] >> opposite & 1u) != 0;
+  return shell.open_nodes[(*shell.triangles)(t, corner)] != 0;  // on a node
+}
+
 std::optional<ShellContact> ShellGeometry::nearest(const Eigen::Vector3d& p, double reach,
                                                   const Eigen::Vector3d& side) const {
   geometry::WedgeHit best;
@@ -141,6 +175,7 @@ std::optional<ShellContact> ShellGeometry::nearest(const Eigen::Vector3d& p, dou
   c.distance = std::sqrt(closest.distance2);
   c.point = closest.point;
   c.velocity = velocity_at(best);
+  c.on_open_edge = on_open_edge(best.shell, best.triangle, best.barycentric);
   // The distance gradient, unless p is on the surface to round-off (1e-9 of the reach).
   if (c.distance > 1e-9 * reach) {
     c.normal = (p - c.point) / c.distance;

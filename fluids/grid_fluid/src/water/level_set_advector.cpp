@@ -69,10 +69,13 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
         for (int i = 0; i < nodes.x(); ++i) {
           const std::int64_t node = i + sy * j + sz * k;
           const Eigen::Vector3d x = m_grid.position(Location::Node, Eigen::Vector3i(i, j, k));
-          const Eigen::Vector3d departure =
-              (x - dt * velocity.velocity_at(node)).cwiseMax(lower).cwiseMin(upper);
+          const bool banded = !in_band.empty() && in_band[node] != 0;
+          const Eigen::Vector3d u =
+              banded ? off_shells(x, velocity.velocity_at(node), in[node], dt, shells)
+                     : velocity.velocity_at(node);
+          const Eigen::Vector3d departure = (x - dt * u).cwiseMax(lower).cwiseMin(upper);
           double* node_range = range ? range + 2 * node : nullptr;
-          if (in_band.empty() || in_band[node] == 0) {
+          if (!banded) {
             const NodeStencil st = node_stencil(m_grid, departure);
             const std::int64_t first = st.base.x() + sy * st.base.y() + sz * st.base.z();
             double v = 0.0, lo = kInf, hi = -kInf;
@@ -116,6 +119,18 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
         }
   }
   for (const auto& list : per_thread) invalid.insert(invalid.end(), list.begin(), list.end());
+}
+
+Eigen::Vector3d LevelSetAdvector::off_shells(const Eigen::Vector3d& x, const Eigen::Vector3d& u,
+                                             double phi, double dt,
+                                             const ShellGeometry& shells) const {
+  if (phi <= 0.0) return u;
+  const auto contact = shells.nearest(x, m_grid.dx(), x);
+  if (!contact || contact->on_open_edge) return u;
+  // Moving off the shell (for dt < 0, the forward trace: onto it).
+  const double normal = (u - contact->velocity).dot(contact->normal);
+  if ((dt > 0.0 ? normal : -normal) <= 0.0) return u;
+  return u - normal * contact->normal;
 }
 
 std::optional<Eigen::Vector3d> LevelSetAdvector::slide_along_shell(const Eigen::Vector3d& x,

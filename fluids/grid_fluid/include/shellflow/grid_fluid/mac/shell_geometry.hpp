@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <vector>
@@ -25,6 +26,7 @@ struct ShellContact {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< on the surface
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< unit, towards the query's side
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< the object's velocity there
+  bool on_open_edge = false;  ///< the point lies on an edge with one triangle (a rim, a hem)
 };
 
 /// A face of the MAC grid whose segment between its two cell centres meets a shell (Fig. 5).
@@ -113,7 +115,14 @@ class ShellGeometry {
     int set_index = -1;
     geometry::TriangleMesh mesh;
     geometry::TriangleBvh bvh;
+    // The open boundary, found on the first nearest() that needs it (smoke never does):
+    // per triangle, bit k for the edge opposite corner k; per node, on any open edge.
+    mutable std::once_flag open_once;
+    mutable std::vector<std::uint8_t> open_edges, open_nodes;
   };
+  /// Whether a point of shell s's triangle t with these barycentrics lies on its open
+  /// boundary (an edge one triangle has, or a node on such an edge).
+  bool on_open_edge(int s, int t, const Eigen::Vector3d& barycentric) const;
   std::vector<std::unique_ptr<Shell>> m_shells;
   std::unique_ptr<geometry::WedgeCaster> m_caster;
   std::vector<int> m_internal;  ///< ShellSet position -> index in m_shells (-1: empty shell)

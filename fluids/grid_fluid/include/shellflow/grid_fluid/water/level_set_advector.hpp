@@ -83,6 +83,13 @@ class LevelSetAdvector {
   void trace(std::span<const double> in, const NodeFields& velocity, double dt,
              const ShellGeometry& shells, const geometry::ShellBand* band, std::span<double> out,
              double* range, std::vector<std::int64_t>& invalid) const;
+  /// The velocity node x (φ there `phi`) traces with: u, except at an air node within Δx
+  /// of a shell (not at its open edge, past which water runs on) that u moves off it: its
+  /// normal part relative to the shell is taken out. Extrapolated from the water, that part
+  /// carried the shell's wet side out into the air: water from nothing (a cup shaken
+  /// sideways gained 55 % in 7.5 s, the water rising up its wall).
+  Eigen::Vector3d off_shells(const Eigen::Vector3d& x, const Eigen::Vector3d& u, double phi,
+                             double dt, const ShellGeometry& shells) const;
   /// Where the path back from x to `departure` goes once the shell it meets stops it
   /// from crossing: along the shell, with the shell's own motion normal to it (the water
   /// next to a shell does not pass through it, nor leave it). None where the path meets
