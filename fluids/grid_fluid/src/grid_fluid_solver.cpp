@@ -321,8 +321,10 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   m_stats.band_nodes = band ? static_cast<std::int64_t>(band->samples(Location::Node).size()) : 0;
   // The volume water_volume_change counts from: measured as water_volume is, against the
   // shells of the first step (a film on a shell counts only with them).
-  if (m_liquid && !m_liquid->initial_volume_measured())
+  if (m_liquid && !m_liquid->initial_volume_measured()) {
+    m_liquid->settle_among_shells(geom_n, band);
     m_liquid->measure_initial_volume(&geom_n, band);
+  }
 
   if (m_prescribed) {
     // The field at the middle of the step carries φ and the particles; nothing else moves.

@@ -63,17 +63,29 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
     double difference[3] = {0.0, 0.0, 0.0};  // φ's difference over the visible neighbours
     int span[3] = {0, 0, 0};                 // over how many cells
     for (int a = 0; a < 3; ++a) {
+      double next_to_shell = kInf;  // the difference towards a neighbour next to a shell
       for (int side = 0; side < 2; ++side) {
         const int c = ijk[a] + (side == 0 ? -1 : 1);
         if (c < 0 || c >= n[a]) continue;
         if ((m_hidden[i] >> (2 * a + side) & 1u) != 0) continue;  // nothing across it
         const std::int64_t j = i + (side == 0 ? -stride[a] : stride[a]);
-        difference[a] += side == 0 ? p - phi[j] : phi[j] - p;
-        ++span[a];
         if ((phi[j] <= 0.0) != water) {
           found = true;
           nearest_crossing = std::min(nearest_crossing, dx * p / (p - phi[j]));  // > 0
         }
+        // A neighbour next to a shell holds its |φ| (below), which may be its distance to
+        // the shell rather than to the surface: it enters the slope only where nothing else
+        // does.
+        if (m_hidden[j] != 0) {
+          next_to_shell = side == 0 ? p - phi[j] : phi[j] - p;
+          continue;
+        }
+        difference[a] += side == 0 ? p - phi[j] : phi[j] - p;
+        ++span[a];
+      }
+      if (span[a] == 0 && next_to_shell != kInf) {
+        difference[a] = next_to_shell;
+        span[a] = 1;
       }
     }
     // |φ|/|∇φ|: the distance to the zero of φ's linearisation, no farther than the nearest
@@ -126,6 +138,8 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
       if ((m_hidden[from] >> (2 * ax + side) & 1u) != 0) return kInf;  // never across a shell
       const std::int64_t j = from + (side == 0 ? -stride[ax] : stride[ax]);
       if (m_accepted[j] == 0) return kInf;
+      // Second order never reaches through a node next to a shell (its |φ| is held).
+      if (across && m_hidden[j] != 0) return kInf;
       if ((phi[j] <= 0.0) == water) return m_distance[j];
       return across ? -m_distance[j] : kInf;
     };

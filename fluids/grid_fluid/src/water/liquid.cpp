@@ -2,7 +2,9 @@
 
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <limits>
+#include <string_view>
 
 #include "shellflow/grid_fluid/mac/ordered_sum.hpp"
 #include "shellflow/grid_fluid/water/initial_water.hpp"
@@ -13,7 +15,14 @@ namespace shellflow::grid_fluid {
 using grid::Location;
 
 namespace {
+
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// A hash of a field's bits: has it changed since?
+size_t bytes_hash(const std::vector<double>& v) {
+  return std::hash<std::string_view>{}(
+      std::string_view(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(double)));
+}
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -101,10 +110,23 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   m_held_flow.assign(m_sources.size(), std::numeric_limits<double>::quiet_NaN());
   m_scratch = m_level_set.phi();
   m_valid.assign(m_level_set.phi().size(), 1);
-  // The pools' planes and boxes are exact distances; meshes and unions are made one.
+  // The pools' planes and boxes are exact distances; meshes and unions are made one (again
+  // at the first step, with its shells).
+  m_built = m_level_set.phi();
   m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), ShellGeometry(), nullptr);
+  m_marched_hash = bytes_hash(m_level_set.phi());
   m_initial_volume = m_level_set.volume();
   m_particles.seed(m_level_set, ShellGeometry());
+}
+
+void Liquid::settle_among_shells(const ShellGeometry& shells, const geometry::ShellBand* band) {
+  if (m_built.empty()) return;
+  // Unless φ was given since (a test's own field), which is then left as it is.
+  if (!shells.empty() && bytes_hash(m_level_set.phi()) == m_marched_hash) {
+    m_level_set.phi() = m_built;
+    m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
+  }
+  std::vector<double>().swap(m_built);
 }
 
 std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double max_speed) {

@@ -6,7 +6,10 @@
 //  - the interface nodes are those with a sign change to a *visible* axis neighbour; a
 //    node with φ > 0 and no visible neighbour with φ <= 0 is not one (water has no
 //    influence across the shell). Each one's distance is |φ|/|∇φ| (central differences
-//    over its visible neighbours, one-sided where only one is visible), no more than the
+//    over its visible neighbours, one-sided where only one is visible or the other is held,
+//    below: a held node's |φ| may be its distance to the shell, and a layer a cell thick
+//    on a shelf read it as the surface's slope and sank a little every step, a fifth of
+//    it gone in 0.5 s), no more than the
 //    nearest crossing along an axis (linear interpolation, φ_i / (φ_i − φ_j) Δx, towards
 //    visible neighbours only). The paper's 1 / sqrt(Σ_axes 1/d_a^2), the plane through
 //    the axis crossings, understates |φ| inside a convex surface and overstates it outside:
@@ -26,7 +29,7 @@
 //    cannot stick either: a held node's |φ| never grows, and advection empties it;
 //  - the march accepts nodes in increasing |φ|, each from its accepted visible neighbours
 //    of the same sign (the upwind quadratic of the eikonal equation |∇φ| = 1; second order
-//    along an axis where the next node upwind is accepted too, an interface node across
+//    along an axis where the next node upwind is accepted too and not held, an interface node across
 //    the surface counting with its signed distance), and stops at the band; nodes beyond
 //    it are set to ±band. First-order marched values a cell out overstate |φ| and made
 //    the next pass's central differences move the surface.

@@ -67,10 +67,16 @@ class Liquid {
   void measure_initial_volume(const ShellGeometry* shells, const geometry::ShellBand* band) {
     set_initial_volume(volume(shells, band));
   }
+  /// The scene's water among the shells of the first step: its level set as built, made a
+  /// distance again by a march that sees them. The march at construction sees none, and
+  /// took a shape's face lying on a shell (water standing in a cup, a layer on a shelf) for
+  /// a surface, thinning a layer a cell thick by up to a tenth.
+  void settle_among_shells(const ShellGeometry& shells, const geometry::ShellBand* band);
   /// A restored run's: the volume the run counted from.
   void set_initial_volume(double volume) {
     m_initial_volume = volume;
     m_initial_volume_measured = true;
+    std::vector<double>().swap(m_built);  // a restored run settled long ago
   }
   /// What the emitters added and the open sides let out since the start.
   const VolumeBudget& budget() const { return m_budget; }
@@ -118,6 +124,8 @@ class Liquid {
  private:
   LevelSet m_level_set;
   std::vector<double> m_scratch;  ///< φ* being advected
+  std::vector<double> m_built;    ///< φ as the scene built it, until the first step
+  size_t m_marched_hash = 0;      ///< of φ as marched at construction
   LevelSetAdvector m_advector;
   FastMarching m_fast_marching;
   VelocityExtrapolation m_extrapolation;
