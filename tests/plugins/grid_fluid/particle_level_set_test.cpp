@@ -388,12 +388,12 @@ TEST(ParticleLevelSet, WaterSpreadingOnAShelfLosesLessWithParticles) {
   // the ability to properly resolve thin films of fluid against an object". The layer's
   // underside lies on the shelf, between node planes: the level set alone loses the part
   // of it below the first nodes above the shelf as it thins. Measured with the sharp
-  // volume: −38.1% alone, −34.6% with 16 particles per cell (−57.6% and −41.6% before fast
+  // volume: −37.2% alone, −35.2% with 16 particles per cell (−57.6% and −41.6% before fast
   // marching stopped reading a node held next to the shelf as the surface's slope: a
   // still layer a cell thick lost a fifth of itself). The particle level set issue asks
   // for 5% here; unmet: a film thinner than the shelf's distance to the next node plane
   // has no wet node, and its particles escape (README, Known limits). Bound: particles
-  // lose less than the level set alone (measured 0.91 of it).
+  // lose less than the level set alone (measured 0.95 of it).
   const double alone = water_spreading_on_a_shelf(0, 1.5);
   const double particles = water_spreading_on_a_shelf(16, 1.5);
   std::printf("[  figure  ] layer spreading on a shelf, 32 cells, 1.5 s: volume %+.2f%% alone, "

@@ -243,7 +243,7 @@ TEST(ShellFilm, FilmThinnerThanACellKeepsItsWaterWhileCarriedAlongATiltedPlate) 
   // of volume. A film 0.6Δx thick has no wet node; read across the plate with constant
   // continuation (its dry nodes' φ taken for the water's, as before linear continuation)
   // it was gone within the turn, with particles or without (0.0% kept both ways).
-  // Measured now: 39% kept by the level set alone, which rounds the film's rim every step,
+  // Measured now: 40% kept by the level set alone, which rounds the film's rim every step,
   // and 80% with 16 particles per cell, which lose most of the rest in the first 0.3 s.
   // Bounds: 25% and 60%, below the figures for films 0.3–1Δx thick (29–43%, 67–82%).
   const FilmRun alone = film_run(32, 0.6, 0);

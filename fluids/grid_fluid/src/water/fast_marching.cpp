@@ -73,10 +73,11 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
           found = true;
           nearest_crossing = std::min(nearest_crossing, dx * p / (p - phi[j]));  // > 0
         }
-        // A neighbour next to a shell holds its |φ| (below), which may be its distance to
-        // the shell rather than to the surface: it enters the slope only where nothing else
-        // does.
-        if (m_hidden[j] != 0) {
+        // A neighbour across the surface and next to a shell holds its |φ| (below), which
+        // may be its distance to the shell rather than to the surface: it enters the slope
+        // only where nothing else does. (Left out on this side too, it took more of the
+        // film on the cloth funnel's cloth: −78 % against −67 % at 4 s.)
+        if (m_hidden[j] != 0 && (phi[j] <= 0.0) != water) {
           next_to_shell = side == 0 ? p - phi[j] : phi[j] - p;
           continue;
         }
