@@ -10,8 +10,8 @@
 //    across the surface and is held, below: a held node's |φ| may be its distance to the
 //    shell, and a layer a cell thick on a shelf read it as the surface's slope and sank a
 //    little every step, a fifth of it gone in 0.5 s), no more than the nearest crossing
-//    along an axis (linear interpolation, φ_i / (φ_i − φ_j) Δx, towards
-//    visible neighbours only). The paper's 1 / sqrt(Σ_axes 1/d_a^2), the plane through
+//    along an axis (linear interpolation, φ_i / (φ_i − φ_j) Δx, towards visible neighbours
+//    only). The paper's 1 / sqrt(Σ_axes 1/d_a^2), the plane through
 //    the axis crossings, understates |φ| inside a convex surface and overstates it outside:
 //    reinitialised every step, water shrank by 0.4% a step in a 3D dam break. A |∇φ|
 //    within 5% of 1 counts as 1: that much is the central differences' own error on a
@@ -29,10 +29,10 @@
 //    cannot stick either: a held node's |φ| never grows, and advection empties it;
 //  - the march accepts nodes in increasing |φ|, each from its accepted visible neighbours
 //    of the same sign (the upwind quadratic of the eikonal equation |∇φ| = 1; second order
-//    along an axis where the next node upwind is accepted too and not held, an interface node
-//    across the surface counting with its signed distance), and stops at the band; nodes beyond it
-//    are set to ±band. First-order marched values a cell out overstate |φ| and made the next pass's
-//    central differences move the surface.
+//    along an axis where the next node upwind is accepted too and not held, an interface
+//    node across the surface counting with its signed distance), and stops at the band;
+//    nodes beyond it are set to ±band. First-order marched values a cell out overstate |φ|
+//    and made the next pass's central differences move the surface.
 // Visibility is decided by rays only for nodes in the shell band.
 
 #include <cstdint>
