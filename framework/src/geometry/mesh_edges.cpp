@@ -4,6 +4,17 @@
 
 namespace shellflow::geometry {
 
+namespace {
+std::vector<std::array<int, 3>> corner_list(const sdk::Triangles& triangles) {
+  std::vector<std::array<int, 3>> corners(static_cast<size_t>(triangles.rows()));
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
+    corners[static_cast<size_t>(t)] = {triangles(t, 0), triangles(t, 1), triangles(t, 2)};
+  return corners;
+}
+}  // namespace
+
+MeshEdges::MeshEdges(const sdk::Triangles& triangles) : MeshEdges(corner_list(triangles)) {}
+
 MeshEdges::MeshEdges(const std::vector<std::array<int, 3>>& triangles) {
   const int n = static_cast<int>(triangles.size());
   std::vector<std::array<int, 4>> ends;  // (low node, high node, triangle, corner)

@@ -59,10 +59,7 @@ KinematicShell::KinematicShell(const nlohmann::json& params, const sdk::Context&
     for (int k = 0; k < 3; ++k) m_node_mass[triangles(t, k)] += third;
   }
   // Each edge once, for the strain figure (a rigid motion keeps every length).
-  std::vector<std::array<int, 3>> corners(static_cast<size_t>(triangles.rows()));
-  for (Eigen::Index t = 0; t < triangles.rows(); ++t)
-    corners[static_cast<size_t>(t)] = {triangles(t, 0), triangles(t, 1), triangles(t, 2)};
-  m_edges = geometry::MeshEdges(corners).edges;
+  m_edges = geometry::MeshEdges(triangles).edges;
   m_rest_length.resize(static_cast<Eigen::Index>(m_edges.size()));
   for (size_t e = 0; e < m_edges.size(); ++e)
     m_rest_length[static_cast<Eigen::Index>(e)] =

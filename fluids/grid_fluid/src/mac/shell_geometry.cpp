@@ -128,17 +128,14 @@ bool ShellGeometry::on_open_edge(int s, int t, const Eigen::Vector3d& barycentri
   const Shell& shell = *m_shells[s];
   std::call_once(shell.open_once, [&shell] {
     const sdk::Triangles& tri = *shell.triangles;
-    std::vector<std::array<int, 3>> corners(tri.rows());
-    for (Eigen::Index t = 0; t < tri.rows(); ++t) corners[t] = {tri(t, 0), tri(t, 1), tri(t, 2)};
-    const geometry::MeshEdges edges(corners);
-    shell.open_edges.assign(corners.size(), 0);
-    shell.open_nodes.assign(shell.positions.rows(), 0);
-    for (size_t t = 0; t < corners.size(); ++t)
+    const geometry::MeshEdges edges(tri);
+    shell.open_edges.assign(static_cast<size_t>(tri.rows()), 0);
+    shell.open_nodes.assign(static_cast<size_t>(shell.positions.rows()), 0);
+    for (Eigen::Index t = 0; t < tri.rows(); ++t)
       for (int k = 0; k < 3; ++k) {  // edge k joins corners k, k + 1: opposite corner k + 2
-        const int e = edges.triangle_edges[t][k];
-        if (edges.edge_start[e + 1] - edges.edge_start[e] != 1) continue;
+        if (!edges.open(edges.triangle_edges[t][k])) continue;
         shell.open_edges[t] |= std::uint8_t(1u << ((k + 2) % 3));
-        shell.open_nodes[corners[t][k]] = shell.open_nodes[corners[t][(k + 1) % 3]] = 1;
+        shell.open_nodes[tri(t, k)] = shell.open_nodes[tri(t, (k + 1) % 3)] = 1;
       }
   });
   // Ericson's closest point gives exact zeros off the face's interior.

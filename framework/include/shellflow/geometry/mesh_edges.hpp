@@ -8,10 +8,16 @@
 #include <array>
 #include <vector>
 
+#include "shellflow/sdk/shell_surface.hpp"
+
 namespace shellflow::geometry {
 
 struct MeshEdges {
   explicit MeshEdges(const std::vector<std::array<int, 3>>& triangles);
+  explicit MeshEdges(const sdk::Triangles& triangles);
+
+  /// Edge e lies on the mesh's open boundary: one triangle has it (a rim, a hem).
+  bool open(int e) const { return edge_start[e + 1] - edge_start[e] == 1; }
 
   std::vector<std::array<int, 2>> edges;           ///< (low node, high node)
   std::vector<std::array<int, 3>> triangle_edges;  ///< edge k of t joins corners k, k + 1
