@@ -373,13 +373,7 @@ double water_spreading_on_a_shelf(int per_cell, double duration) {
       test::make_plate({0.5, 0.2104, 0.125}, Eigen::Vector3d::UnitY(), 1.2, 13)};
   const std::vector<sdk::Positions> v_eff{shells.front().velocities};
   const double v0 = fluid->liquid()->level_set().volume();
-  double t = 0.0;
-  while (t < duration - 1e-12) {
-    const double dt = std::min(fluid->stable_dt(0.9), duration - t);
-    fluid->advect(t, dt, shells, shells);
-    fluid->project(dt, shells, v_eff);
-    t += dt;
-  }
+  test::run_for(*fluid, duration, shells, v_eff);
   return (fluid->liquid()->level_set().volume() - v0) / v0;
 }
 

@@ -227,14 +227,7 @@ FilmRun film_run(int cells, double thickness, int per_cell) {
   const std::vector<sdk::Positions> v_eff{plate.velocities};
   const double v0 = 0.3 * 0.3 * top;
   fluid->liquid()->particles().seed(fluid->liquid()->level_set(), ShellGeometry(shells, 1e-3 * dx));
-  double t = 0.0;
-  const double end = 0.25 * period;
-  while (t < end - 1e-12) {
-    const double dt = std::min(fluid->stable_dt(0.9), end - t);
-    fluid->advect(t, dt, shells, shells);
-    fluid->project(dt, shells, v_eff);
-    t += dt;
-  }
+  test::run_for(*fluid, 0.25 * period, shells, v_eff);
   return {fluid->liquid()->initial_volume() / v0, test::reported(*fluid, "water_volume") / v0};
 }
 
