@@ -288,9 +288,11 @@ TEST_F(TwoWayScenes, ALightCurtainInAWaterJetIsPushedAndTheWaterKept) {
       "curtain in a water jet: %.4f m^3 at %.2f s against %.4f emitted (%.3f m^3/s); "
       "cloth at most %.2f m/s\n",
       volume(), run.loop->time(), expected, rate, std::max(fastest, 0.0));
-  // Measured +2.0 % (the level set's own drift as the jet splashes on the cloth; −18 %
-  // with the pull); the bound allows two and a half times that.
-  EXPECT_NEAR(volume(), expected, 0.05 * expected);
+  // Measured +5.3 % (the level set's own drift as the jet splashes on the cloth; −18 %
+  // with the pull). It read +2.0 % while water_volume cut the water with the cloth where
+  // it stood a step before, behind the water that follows it. The bound: that and half
+  // again.
+  EXPECT_NEAR(volume(), expected, 0.08 * expected);
   // The jet's water moves at 4 m/s; a cloth it pushes moves no faster than that water,
   // save for the elastic rebound of its free corners (measured: 4.8 m/s; 21 m/s with the
   // pull).

@@ -604,9 +604,10 @@ std::vector<sdk::FieldView> GridFluid::fields() const {
 std::vector<sdk::ParticleView> GridFluid::particles() const {
   if (!m_liquid || !m_liquid->particles().enabled()) return {};
   const ParticleLevelSet& pls = m_liquid->particles();
-  // The shells at the end of the last step are those the nodes were last transferred with.
+  // The shells at the end of the last step (m_geometry_n since project()'s swap) are those
+  // the nodes were last transferred with.
   static const ShellGeometry none;
-  const ShellGeometry& shells = m_geometry_np1 ? *m_geometry_np1 : none;
+  const ShellGeometry& shells = m_geometry_n ? *m_geometry_n : none;
   const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
   pls.gather(-1, m_nodes, shells, band, m_marker_views[0]);
   pls.gather(+1, m_nodes, shells, band, m_marker_views[1]);
@@ -673,7 +674,8 @@ void GridFluid::report(sdk::Metrics& out) const {
   out.set("smoke_nodes", static_cast<double>(m_nodes.density().size()));
   if (m_liquid) {
     const auto& w = m_liquid->stats();
-    const double volume = m_liquid->volume(m_geometry_np1.get(), m_band_used ? &m_band : nullptr);
+    // Against the shells where the water is now (m_geometry_np1 holds the step's start).
+    const double volume = m_liquid->volume(m_geometry_n.get(), m_band_used ? &m_band : nullptr);
     out.set("water_volume", volume);
     out.set("water_volume_change", volume - m_liquid->initial_volume());
     const VolumeBudget& budget = m_liquid->budget();

@@ -160,6 +160,8 @@ class GridFluid final : public sdk::FluidSolver {
   double m_t_pressure = 0.0;                     ///< wall time of the last projection [s]
   geometry::ShellBand m_band;
   bool m_band_used = false;
+  /// The shells at the start of the step; between steps (project() swaps the two), those at
+  /// its end, where the water is: what report() and particles() measure against.
   std::unique_ptr<ShellGeometry> m_geometry_n;
   std::unique_ptr<ShellGeometry> m_geometry_np1;
   double m_shell_speed = 0.0;
