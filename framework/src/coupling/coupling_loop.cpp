@@ -109,6 +109,12 @@ void CouplingLoop::start(double t0, double time_to_first_frame) {
   m_ahead_dt = next_dt(time_to_first_frame);
   save_solids();
   advance_solids(m_time, m_ahead_dt, {});
+  // The fluid at t0 learns how the shells move over the first step (its pressure impulse).
+  const auto shells_1 = gather_shells();
+  std::vector<sdk::Positions> effective_velocity(shells_1.size());
+  for (size_t s = 0; s < shells_1.size(); ++s)
+    effective_velocity[s] = (shells_1[s].positions - m_shells_n[s].positions) / m_ahead_dt;
+  m_fluid->start(m_ahead_dt, m_shells_n, effective_velocity);
 }
 
 void CouplingLoop::save_solids() {

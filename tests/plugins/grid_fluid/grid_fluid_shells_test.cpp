@@ -298,7 +298,7 @@ TEST(GridFluidShells, WaterInAShakenCupMakesNoWater) {
   // water sloshes below its rim. Air nodes next to the wall whose extrapolated velocity
   // moved them off it carried the wall's wet side out into the air, and the water rose up
   // the wall: +32 % by 5 s here (+55 % in 7.5 s at 48 cells with 16 particles per cell).
-  // The volume swings with the wall's motion: −8.2 … +0.4 % here now (ends −3.5 %), and
+  // The volume swings with the wall's motion: −8.4 … +0.1 % here now (ends −3.9 %), and
   // over the scene's 3 s at 48 cells with particles, −4.8 … +4.2 % (README, Known limits).
   // The bounds: that swing and half again.
   auto run = load("water_sloshing_cup.json", [](nlohmann::json& fluid) {

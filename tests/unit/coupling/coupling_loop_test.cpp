@@ -62,6 +62,11 @@ class ScriptedFluid final : public sdk::FluidSolver {
   std::vector<Seen> seen;
 
   double stable_dt(double) const override { return stable_steps.front(); }
+  void start(double dt, sdk::ShellSet shells, std::span<const sdk::Positions> v) override {
+    calls.push_back("start");
+    started = {0.0, dt, time_of(shells[0]), 0.0, v[0](0, 0)};
+  }
+  Seen started{};
   void advect(double t, double dt, sdk::ShellSet n, sdk::ShellSet np1) override {
     calls.push_back("advect");
     seen.push_back({t, dt, time_of(n[0]), time_of(np1[0]), 0.0});
@@ -93,9 +98,16 @@ TEST(CouplingLoop, FluidSeesShellsAtNAndNPlusOneAndTheLookAheadVelocity) {
     loop.step(dt, frame - loop.time() - dt);
   }
   ASSERT_EQ(fluid.seen.size(), 4u);
-  EXPECT_EQ(fluid.calls[0], "advect");
-  EXPECT_EQ(fluid.calls[1], "coupling_forces");
-  EXPECT_EQ(fluid.calls[2], "project");
+  // Before the first step the fluid learns the shells at t0 and their first step's
+  // velocity, (x(0.01) − x(0)) / 0.01 (GridFluid projects with it: the water at rest
+  // beside a moving shell gets its pressure impulse).
+  EXPECT_EQ(fluid.calls[0], "start");
+  EXPECT_NEAR(fluid.started.time_n, 0.0, kTimeTolerance);
+  EXPECT_DOUBLE_EQ(fluid.started.dt, 0.01);
+  EXPECT_NEAR(fluid.started.effective_velocity, kC * 0.01 * 0.01 / 0.01, 1e-12);
+  EXPECT_EQ(fluid.calls[1], "advect");
+  EXPECT_EQ(fluid.calls[2], "coupling_forces");
+  EXPECT_EQ(fluid.calls[3], "project");
   for (size_t k = 0; k < fluid.seen.size(); ++k) {
     const auto& s = fluid.seen[k];
     EXPECT_NEAR(s.time_n, s.t, kTimeTolerance) << "step " << k;            // shells at n

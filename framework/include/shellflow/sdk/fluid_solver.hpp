@@ -52,6 +52,13 @@ class FluidSolver {
   /// Largest step allowed by the CFL number `cfl` (and any other limit of the fluid).
   virtual double stable_dt(double cfl) const = 0;
 
+  /// §6 before the first step: the shells at t0 and their velocity over the first step
+  /// (as project() gets it). A fluid at rest beside a shell already moving takes the
+  /// motion's pressure impulse here; otherwise its first step leaves it behind the shell.
+  /// Default: nothing.
+  virtual void start(double /*dt*/, ShellSet /*shells*/,
+                     std::span<const Positions> /*effective_velocity*/) {}
+
   /// §4.1–4.2: compute u* (advection and body forces) knowing the shells at time n and
   /// n+1; nodes swept by a shell are invalidated and refilled (§3).
   virtual void advect(double t, double dt, ShellSet shells_n, ShellSet shells_np1) = 0;

@@ -14,7 +14,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#define SHELLFLOW_ABI_MAJOR 4  // 4: MultigridPreconditioner::Level (layout); 3: StateWriter (layout)
+// 5: FluidSolver::start (vtable); 4: MultigridPreconditioner::Level (layout); 3: StateWriter
+// (layout).
+#define SHELLFLOW_ABI_MAJOR 5
 #define SHELLFLOW_ABI_MINOR 0
 #define SHELLFLOW_ENTRY_SYMBOL "shellflow_plugin_entry"
 

@@ -74,6 +74,8 @@ class GridFluid final : public sdk::FluidSolver {
   GridFluid(const nlohmann::json& params, const sdk::Context& context);
 
   double stable_dt(double cfl) const override;
+  void start(double dt, sdk::ShellSet shells,
+             std::span<const sdk::Positions> effective_velocity) override;
   void advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSet shells_np1) override;
   /// §5.1: forces on the triangles of the shells that receive fluid forces, from u*
   /// (CouplingPressure); rows of one-way shells stay as the runtime passed them (zero).
