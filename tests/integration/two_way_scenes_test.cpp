@@ -299,6 +299,51 @@ TEST_F(TwoWayScenes, ALightCurtainInAWaterJetIsPushedAndTheWaterKept) {
   EXPECT_LT(fastest, 2.0 * 4.0);
 }
 
+TEST_F(TwoWayScenes, APoolOnAClothReleasedFromRestKeepsItsWaterFromTheFirstStep) {
+  // A box of water 0.3 × 0.1 × 0.3 m at rest on a 0.7 m cloth pinned at its four corners
+  // (32 cells, the level set alone), the two released together: the cloth sags under the
+  // water. Before the first step the loop tells the fluid how the shells move over it
+  // (FluidSolver::start): without that the water stood still for that step while the cloth
+  // fell away beneath it, and the gap was refilled from the water's side (§3): +30 % of the
+  // water in the first step, +27 % still at 1/12 s. Measured now: +8.0 % after the first
+  // step (the cloth's first step is taken again under the water's pressure, and lands
+  // elsewhere than the look-ahead that the water was given), +1.0 % at 1/12 s. The bounds:
+  // those and half again.
+  const auto file = write("pool.json", R"({
+    "gravity": [0, -9.81, 0], "time": {"fps": 24, "frames": 2, "cfl": 0.9},
+    "fluid": {"plugin": "grid_fluid", "name": "water", "resolution": 32,
+      "domain": {"min": [0, 0, 0], "max": [1, 1, 1]},
+      "boundary": {"y_min": {"type": "open"}},
+      "water": {"initial": [{"type": "box", "min": [0.35, 0.51, 0.35], "max": [0.65, 0.61, 0.65]}]}},
+    "solids": [{"plugin": "mass_spring_cloth", "name": "cloth",
+      "mesh": {"type": "grid", "width": 0.7, "height": 0.7, "nodes_u": 25, "nodes_v": 25,
+               "pattern": "herringbone"},
+      "transform": {"rotate_axis": [1, 0, 0], "rotate_deg": 90, "translate": [0.5, 0.5, 0.5]},
+      "surface_density": 2.667, "stretch_stiffness": 2000, "stretch_damping": 2,
+      "shear_stiffness": 200, "shear_damping": 0.2, "bending_stiffness": 0.001,
+      "bending_damping": 1e-05, "receives_fluid_forces": true,
+      "pins": {"grid": ["top_left", "top_right", "bottom_left", "bottom_right"]}}]})");
+  SceneRun run(file);
+  const auto drift = [&] {
+    return reported(*run.fluid, "water_volume_change") /
+           (reported(*run.fluid, "water_volume") - reported(*run.fluid, "water_volume_change"));
+  };
+  double first = 0.0;
+  for (int frame = 1; frame <= 2; ++frame)
+    while (frame / 24.0 - run.loop->time() > 1e-12) {
+      const double left = frame / 24.0 - run.loop->time();
+      const double dt = run.loop->next_dt(left);
+      run.loop->step(dt, left - dt > 1e-12 ? left - dt : 1.0 / 24.0);
+      if (first == 0.0) first = drift();
+    }
+  std::printf(
+      "[  figure  ] pool on a cloth released from rest: water %+.1f %% after the first "
+      "step, %+.1f %% at 1/12 s\n",
+      100.0 * first, 100.0 * drift());
+  EXPECT_LT(std::abs(first), 0.12);
+  EXPECT_LT(std::abs(drift()), 0.015);
+}
+
 TEST_F(TwoWayScenes, ClothDensitySweepInAStreamStaysFinite) {
   // The issue's stress sweep on cloth: a curtain pinned along its top edge in a 2 m/s
   // stream, σ from 1000× lighter to 1000× heavier than ρΔx (the fluid mass per unit area of
