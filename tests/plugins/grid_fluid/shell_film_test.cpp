@@ -252,6 +252,21 @@ TEST(ShellFilm, FilmThinnerThanACellKeepsItsWaterWhileCarriedAlongATiltedPlate) 
   EXPECT_NEAR(alone.start, 1.0, 0.05);
 }
 
+/// A 1 × 0.5 × 0.25 m tank at 32 cells with a shelf spanning it a third of a cell above a
+/// node plane (y = kShelf, air sealed beneath) and a layer `layer`Δx thick on it; the
+/// projection to 1e-6.
+constexpr double kShelfDx = 1.0 / 32.0, kShelf = 0.2104;
+std::unique_ptr<GridFluid> layer_on_a_shelf(double layer) {
+  return test::make_fluid({{"domain", {{"min", {0, 0, 0}}, {"max", {1.0, 0.5, 0.25}}}},
+                           {"resolution", 32},
+                           {"pressure", {{"tolerance", 1e-6}}},
+                           {"water",
+                            {{"initial",
+                              {{{"type", "box"},
+                                {"min", {-1, kShelf, -1}},
+                                {"max", {2, kShelf + layer * kShelfDx, 2}}}}}}}});
+}
+
 TEST(ShellFilm, AStillLayerOnAShelfKeepsItsWater) {
   // Water at rest in a layer on a shelf that spans a 1 × 0.5 × 0.25 m tank at 32 cells,
   // the shelf a third of a cell above a node plane (y = 0.2104), air sealed beneath. The
@@ -264,14 +279,8 @@ TEST(ShellFilm, AStillLayerOnAShelfKeepsItsWater) {
   // cut cells with its own level set) keeps within 1e-5 (measured 0, 0, −1.6e-7: what the
   // projection's tolerance of 1e-6 leaves of motion).
   for (const double layer : {0.7, 0.96, 1.2}) {
-    const double dx = 1.0 / 32.0, shelf = 0.2104;
-    auto fluid = test::make_fluid(
-        {{"domain", {{"min", {0, 0, 0}}, {"max", {1.0, 0.5, 0.25}}}},
-         {"resolution", 32},
-         {"pressure", {{"tolerance", 1e-6}}},
-         {"water",
-          {{"initial",
-            {{{"type", "box"}, {"min", {-1, shelf, -1}}, {"max", {2, shelf + layer * dx, 2}}}}}}}});
+    const double dx = kShelfDx, shelf = kShelf;
+    auto fluid = layer_on_a_shelf(layer);
     const std::vector<sdk::ShellSurface> shells{
         test::make_plate({0.5, shelf, 0.125}, Eigen::Vector3d::UnitY(), 1.2, 13)};
     const std::vector<sdk::Positions> v_eff{shells.front().velocities};
@@ -297,14 +306,8 @@ TEST(ShellFilm, ALayerCarriedByAMovingShelfReadsTheSameVolumeWhereverTheShelfIs)
   // second step (the water node next to the shelf holds its distance to the shelf, §4.4.1,
   // and the rising water carries that small |φ| up into the layer). The bound: twice that.
   for (const double speed : {0.3, -0.3}) {
-    const double dx = 1.0 / 32.0, shelf = 0.2104, area = 1.0 * 0.25;
-    auto fluid = test::make_fluid(
-        {{"domain", {{"min", {0, 0, 0}}, {"max", {1.0, 0.5, 0.25}}}},
-         {"resolution", 32},
-         {"pressure", {{"tolerance", 1e-6}}},
-         {"water",
-          {{"initial",
-            {{{"type", "box"}, {"min", {-1, shelf, -1}}, {"max", {2, shelf + 2.5 * dx, 2}}}}}}}});
+    const double dx = kShelfDx, shelf = kShelf, area = 1.0 * 0.25;
+    auto fluid = layer_on_a_shelf(2.5);
     const auto shelf_at = [&](double t) {
       auto plate =
           test::make_plate({0.5, shelf + speed * t, 0.125}, Eigen::Vector3d::UnitY(), 1.2, 13);
