@@ -279,10 +279,9 @@ TEST(ShellFilm, AStillLayerOnAShelfKeepsItsWater) {
   // cut cells with its own level set) keeps within 1e-5 (measured 0, 0, −1.6e-7: what the
   // projection's tolerance of 1e-6 leaves of motion).
   for (const double layer : {0.7, 0.96, 1.2}) {
-    const double dx = kShelfDx, shelf = kShelf;
     auto fluid = layer_on_a_shelf(layer);
     const std::vector<sdk::ShellSurface> shells{
-        test::make_plate({0.5, shelf, 0.125}, Eigen::Vector3d::UnitY(), 1.2, 13)};
+        test::make_plate({0.5, kShelf, 0.125}, Eigen::Vector3d::UnitY(), 1.2, 13)};
     const std::vector<sdk::Positions> v_eff{shells.front().velocities};
     test::run_for(*fluid, 0.5, shells, v_eff);
     const double volume = test::reported(*fluid, "water_volume");
