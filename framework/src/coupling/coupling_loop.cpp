@@ -112,8 +112,9 @@ void CouplingLoop::start(double t0, double time_to_first_frame) {
   // The fluid at t0 learns how the shells move over the first step (its pressure impulse).
   const auto shells_1 = gather_shells();
   std::vector<sdk::Positions> effective_velocity(shells_1.size());
-  for (size_t s = 0; s < shells_1.size(); ++s)
-    effective_velocity[s] = (shells_1[s].positions - m_shells_n[s].positions) / m_ahead_dt;
+  for (size_t s = 0; s < shells_1.size() && s < m_shells_n.size(); ++s)
+    if (shells_1[s].positions.rows() == m_shells_n[s].positions.rows())
+      effective_velocity[s] = (shells_1[s].positions - m_shells_n[s].positions) / m_ahead_dt;
   m_fluid->start(m_ahead_dt, m_shells_n, effective_velocity);
 }
 
