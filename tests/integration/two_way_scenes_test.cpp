@@ -52,6 +52,13 @@ double reported(const sdk::FluidSolver& fluid, const std::string& key) {
   return std::nan("");
 }
 
+/// The paper water scenes' two-way cloth (configs/paper/water_curtain.json and
+/// water_cloth_funnel.json): mass_spring_cloth's stiff springs, pushed by the water.
+constexpr const char* kPaperCloth =
+    R"("stretch_stiffness": 2000, "stretch_damping": 2, "shear_stiffness": 200,
+       "shear_damping": 0.2, "bending_stiffness": 0.001, "bending_damping": 1e-05,
+       "receives_fluid_forces": true,)";
+
 /// Momentum [kg m/s] and kinetic energy [J] of the shells: lumped node masses, a third of
 /// each triangle's σ A per node (what the cloth uses; for a rigid shell the node sum of
 /// m v is its momentum exactly, the energy a lumped approximation).
@@ -266,9 +273,8 @@ TEST_F(TwoWayScenes, ALightCurtainInAWaterJetIsPushedAndTheWaterKept) {
       "mesh": {"type": "grid", "width": 2.0, "height": 2.5, "nodes_u": 21, "nodes_v": 26,
                "pattern": "herringbone"},
       "transform": {"rotate_axis": [0, 1, 0], "rotate_deg": 90, "translate": [1.2, 2.75, 2.0]},
-      "surface_density": 1.0, "stretch_stiffness": 2000, "stretch_damping": 2,
-      "shear_stiffness": 200, "shear_damping": 0.2, "bending_stiffness": 0.001,
-      "bending_damping": 1e-05, "receives_fluid_forces": true,
+      "surface_density": 1.0, )" + std::string(kPaperCloth) +
+                                              R"(
       "pins": {"grid": ["top_left", "top_right"]}}]})");
   SceneRun run(file);
   const auto volume = [&] { return reported(*run.fluid, "water_volume"); };
@@ -319,9 +325,8 @@ TEST_F(TwoWayScenes, APoolOnAClothReleasedFromRestKeepsItsWaterFromTheFirstStep)
       "mesh": {"type": "grid", "width": 0.7, "height": 0.7, "nodes_u": 25, "nodes_v": 25,
                "pattern": "herringbone"},
       "transform": {"rotate_axis": [1, 0, 0], "rotate_deg": 90, "translate": [0.5, 0.5, 0.5]},
-      "surface_density": 2.667, "stretch_stiffness": 2000, "stretch_damping": 2,
-      "shear_stiffness": 200, "shear_damping": 0.2, "bending_stiffness": 0.001,
-      "bending_damping": 1e-05, "receives_fluid_forces": true,
+      "surface_density": 2.667, )" + std::string(kPaperCloth) +
+                                           R"(
       "pins": {"grid": ["top_left", "top_right", "bottom_left", "bottom_right"]}}]})");
   SceneRun run(file);
   const auto drift = [&] {

@@ -326,17 +326,7 @@ void GridFluid::start(double dt, sdk::ShellSet shells,
       impulse[s] = effective_velocity[s] - shells[s].velocities;
     moving = moving || !impulse[s].isZero(0.0);
   }
-  if (!moving) return;
-  ensure_geometry(m_geometry_n, shells);
-  m_geometry_n->set_velocities(impulse);
-  build_band(shells, shells, 2.0 * m_mac.dx());
-  const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
-  m_projection.project(m_mac, dt, m_boundary, *m_geometry_n, band,
-                       m_liquid ? &m_liquid->surface(*m_geometry_n, band) : nullptr);
-  if (m_liquid) m_liquid->extrapolate(m_mac, m_projection, *m_geometry_n, band);
-  m_geometry_n->set_velocities(velocities_of(shells));
-  m_transfer.faces_to_nodes(m_mac, m_nodes, *m_geometry_n, band);
-  m_nodes_current = true;
+  if (moving) project_against(m_geometry_n, dt, shells, impulse);
 }
 
 void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSet shells_np1) {
@@ -501,18 +491,26 @@ void GridFluid::project(double dt, sdk::ShellSet shells,
     m_time += dt;
     return;
   }
+  project_against(m_geometry_np1, dt, shells, effective_velocity);
+  std::swap(m_geometry_n, m_geometry_np1);
+  m_time += dt;
+}
+
+void GridFluid::project_against(std::unique_ptr<ShellGeometry>& geometry, double dt,
+                                sdk::ShellSet shells,
+                                std::span<const sdk::Positions> boundary_velocity) {
   ShellGeometry none;
   const bool have_shells = !shells.empty();
   if (have_shells) {
-    ensure_geometry(m_geometry_np1, shells);
-    m_geometry_np1->set_velocities(effective_velocity);  // §4.3: the effective velocity
+    ensure_geometry(geometry, shells);
+    geometry->set_velocities(boundary_velocity);  // §4.3: the effective velocity
     build_band(shells, shells, 2.0 * m_mac.dx());
   } else {
-    m_geometry_np1.reset();
+    geometry.reset();
     build_band(shells, shells, 0.0);
   }
   const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
-  const ShellGeometry& geom = have_shells ? *m_geometry_np1 : none;
+  const ShellGeometry& geom = have_shells ? *geometry : none;
   const auto start = std::chrono::steady_clock::now();
   m_stats.projection = m_projection.project(m_mac, dt, m_boundary, geom, band,
                                             m_liquid ? &m_liquid->surface(geom, band) : nullptr);
@@ -521,11 +519,9 @@ void GridFluid::project(double dt, sdk::ShellSet shells,
   if (m_liquid) m_liquid->extrapolate(m_mac, m_projection, geom, band);
 
   // Nodes for writers and for the next step (§4.2), against the shells' own velocities.
-  if (have_shells) m_geometry_np1->set_velocities(velocities_of(shells));
+  if (have_shells) geometry->set_velocities(velocities_of(shells));
   m_transfer.faces_to_nodes(m_mac, m_nodes, geom, band);
   m_nodes_current = true;
-  std::swap(m_geometry_n, m_geometry_np1);
-  m_time += dt;
 }
 
 void GridFluid::save(sdk::StateWriter& out) const {

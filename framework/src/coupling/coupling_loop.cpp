@@ -26,6 +26,18 @@ std::vector<sdk::ShellSurface> with_rigid_accelerations_over_solid_step(
     if (s.rigid) s.rigid->acceleration *= solid_steps_per_fluid_step;
   return scaled;
 }
+
+/// §6's effective velocity of each shell over a step: (x_to − x_from)/Δt per node (empty
+/// for a shell whose node count changed).
+std::vector<sdk::Positions> effective_velocities(const std::vector<sdk::ShellSurface>& from,
+                                                 const std::vector<sdk::ShellSurface>& to,
+                                                 double dt) {
+  std::vector<sdk::Positions> v(to.size());
+  for (size_t s = 0; s < to.size() && s < from.size(); ++s)
+    if (to[s].positions.rows() == from[s].positions.rows())
+      v[s] = (to[s].positions - from[s].positions) / dt;
+  return v;
+}
 }  // namespace
 
 CouplingLoop::CouplingLoop(sdk::FluidSolver* fluid, std::vector<sdk::SolidSolver*> solids,
@@ -110,12 +122,8 @@ void CouplingLoop::start(double t0, double time_to_first_frame) {
   save_solids();
   advance_solids(m_time, m_ahead_dt, {});
   // The fluid at t0 learns how the shells move over the first step (its pressure impulse).
-  const auto shells_1 = gather_shells();
-  std::vector<sdk::Positions> effective_velocity(shells_1.size());
-  for (size_t s = 0; s < shells_1.size() && s < m_shells_n.size(); ++s)
-    if (shells_1[s].positions.rows() == m_shells_n[s].positions.rows())
-      effective_velocity[s] = (shells_1[s].positions - m_shells_n[s].positions) / m_ahead_dt;
-  m_fluid->start(m_ahead_dt, m_shells_n, effective_velocity);
+  m_fluid->start(m_ahead_dt, m_shells_n,
+                 effective_velocities(m_shells_n, gather_shells(), m_ahead_dt));
 }
 
 void CouplingLoop::save_solids() {
@@ -177,9 +185,7 @@ PhaseTimes CouplingLoop::step(double dt, double time_to_frame_end_after_step) {
     save_solids();
     advance_solids(m_time + dt, dt_next, impulse_matched_forces(dt_next));
     m_ahead_dt = dt_next;
-    const auto shells_np2 = gather_shells();
-    for (size_t s = 0; s < shells_np1.size(); ++s)
-      effective_velocity[s] = (shells_np2[s].positions - shells_np1[s].positions) / dt_next;
+    effective_velocity = effective_velocities(shells_np1, gather_shells(), dt_next);
     times.solids += seconds_since(t0);
   }
 

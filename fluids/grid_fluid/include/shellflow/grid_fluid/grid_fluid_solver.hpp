@@ -124,6 +124,11 @@ class GridFluid final : public sdk::FluidSolver {
   /// The §5.1 solver, made on first use (its arrays cost memory only in two-way scenes).
   CouplingPressure& coupling_pressure();
   void build_band(sdk::ShellSet shells_n, sdk::ShellSet shells_np1, double margin);
+  /// §4.3–4.4 against `shells` held in `geometry`: the projection with Neumann faces moving
+  /// at `boundary_velocity`, the velocities extrapolated across the surface, the nodes
+  /// (§4.2) against the shells' own velocities. project() and start() differ only in it.
+  void project_against(std::unique_ptr<ShellGeometry>& geometry, double dt, sdk::ShellSet shells,
+                       std::span<const sdk::Positions> boundary_velocity);
   /// Step 3 of advect() for water (gravity on the nodes, emitters) and for smoke.
   void advect_water_forces(double t, double dt);
   void add_smoke_forces(double t, double dt, const ShellGeometry& geom_n,
