@@ -71,7 +71,7 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
           const Eigen::Vector3d x = m_grid.position(Location::Node, Eigen::Vector3i(i, j, k));
           const bool banded = !in_band.empty() && in_band[node] != 0;
           const Eigen::Vector3d u =
-              banded ? off_shells(x, velocity.velocity_at(node), in[node], dt, shells)
+              banded ? off_shells(x, velocity.velocity_at(node), in, node, dt, shells)
                      : velocity.velocity_at(node);
           const Eigen::Vector3d departure = (x - dt * u).cwiseMax(lower).cwiseMin(upper);
           double* node_range = range ? range + 2 * node : nullptr;
@@ -122,15 +122,31 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
 }
 
 Eigen::Vector3d LevelSetAdvector::off_shells(const Eigen::Vector3d& x, const Eigen::Vector3d& u,
-                                             double phi, double dt,
-                                             const ShellGeometry& shells) const {
-  if (phi <= 0.0) return u;
+                                             std::span<const double> phi, std::int64_t node,
+                                             double dt, const ShellGeometry& shells) const {
+  const double p = phi[node];
+  if (p <= 0.0) return u;
   const auto contact = shells.nearest(x, m_grid.dx(), x);
   if (!contact || contact->on_open_edge) return u;
-  // Moving off the shell (for dt < 0, the forward trace: onto it).
   const double normal = (u - contact->velocity).dot(contact->normal);
-  if ((dt > 0.0 ? normal : -normal) <= 0.0) return u;
+  // > 0: u moves x off the shell (for dt < 0, the forward trace: onto it).
+  const double off = dt > 0.0 ? normal : -normal;
+  if (off == 0.0 || (off < 0.0 && !film_beneath(x, p, *contact, phi, shells))) return u;
   return u - normal * contact->normal;
+}
+
+bool LevelSetAdvector::film_beneath(const Eigen::Vector3d& x, double p, const ShellContact& contact,
+                                    std::span<const double> phi,
+                                    const ShellGeometry& shells) const {
+  // φ a cell further off the shell, on x's side: larger, and its line through x falls
+  // below zero before the shell.
+  const Eigen::Vector3d further = x + m_grid.dx() * contact.normal;
+  if ((further.array() < m_grid.origin().array()).any() ||
+      (further.array() > m_grid.upper().array()).any() || !shells.visible(x, further))
+    return false;
+  const std::optional<double> there = sample_visible(phi, further, shells);
+  if (!there || *there <= p) return false;
+  return p - (*there - p) / m_grid.dx() * contact.distance < 0.0;
 }
 
 std::optional<Eigen::Vector3d> LevelSetAdvector::slide_along_shell(const Eigen::Vector3d& x,
