@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -80,6 +81,41 @@ TEST(ShellFilm, AFilmsLinearWaterIsReadExactlyFromEitherSideOfAShell) {
   }
 }
 
+/// The advection tests' tank and plate: 16³, a skew-tilted plate through c (0.3Δx above a
+/// node plane), a step of 0.4Δx s (up to a cell at the speeds used), and the plate's two
+/// velocities: static, and moving off the film's side at 0.3 m/s and along it.
+struct TiltedPlate {
+  grid::UniformGrid grid{Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i(16, 16, 16)};
+  double dx = grid.dx();
+  Eigen::Vector3d c{0.5, 0.5 + 0.3 * dx, 0.5};
+  Eigen::Vector3d n = tilt() * Eigen::Vector3d::UnitY();
+  Eigen::Vector3d along = tilt() * Eigen::Vector3d(1.0, 0.0, 0.4).normalized();
+  double dt = 0.4 * dx;
+  std::array<Eigen::Vector3d, 2> plate_velocities{Eigen::Vector3d::Zero(), -0.3 * n + 0.2 * along};
+};
+
+/// That plate moving at `velocity`: its geometry, its 3Δx band, and node velocities u
+/// throughout.
+struct MovingPlate {
+  MovingPlate(const TiltedPlate& t, const Eigen::Vector3d& velocity, const Eigen::Vector3d& u)
+      : shells{moving(t, velocity)},
+        geometry(shells, 1e-3 * t.dx),
+        band(t.grid),
+        nodes(t.grid, 0.0, false) {
+    band.add(geometry::TriangleMesh(shells.front()), 3.0 * t.dx);
+    for (int a = 0; a < 3; ++a) std::fill(nodes.velocity(a).begin(), nodes.velocity(a).end(), u[a]);
+  }
+  static sdk::ShellSurface moving(const TiltedPlate& t, const Eigen::Vector3d& velocity) {
+    sdk::ShellSurface plate = test::make_plate(t.c, t.n, 1.4, 15);
+    plate.velocities.rowwise() = velocity.transpose();
+    return plate;
+  }
+  std::vector<sdk::ShellSurface> shells;
+  ShellGeometry geometry;
+  geometry::ShellBand band;
+  NodeFields nodes;
+};
+
 TEST(ShellFilm, APathBackIntoTheShellSlidesAlongItAndKeepsTheFilm) {
   // A film's linear φ (surface parallel to a skew-tilted plate, 0.37Δx off it, water on the
   // plate) carried by node velocities along the plate plus a part off it, as the nodes
@@ -89,33 +125,26 @@ TEST(ShellFilm, APathBackIntoTheShellSlidesAlongItAndKeepsTheFilm) {
   // a linear φ (to round-off). Stopped at the plate (the constant continuation there), it
   // read the film's dry nodes, more than 0.1Δx too dry: the test asserts that too, so it is
   // not vacuous. Static, and moving off the film's side at 0.3 m/s and along it.
-  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i(16, 16, 16));
-  const double dx = grid.dx();
-  const Eigen::Vector3d c(0.5, 0.5 + 0.3 * dx, 0.5);
-  const Eigen::Vector3d n = tilt() * Eigen::Vector3d::UnitY();
-  const Eigen::Vector3d along = tilt() * Eigen::Vector3d(1.0, 0.0, 0.4).normalized();
-  const double dt = 0.4 * dx;  // up to a cell a step at the speeds below
-  for (const Eigen::Vector3d& plate_velocity :
-       {Eigen::Vector3d::Zero().eval(), (-0.3 * n + 0.2 * along).eval()}) {
-    sdk::ShellSurface plate = test::make_plate(c, n, 1.4, 15);
-    plate.velocities.rowwise() = plate_velocity.transpose();
-    const std::vector<sdk::ShellSurface> shells{plate};
-    const ShellGeometry geometry(shells, 1e-3 * dx);
-    geometry::ShellBand band(grid);
-    band.add(geometry::TriangleMesh(plate), 3.0 * dx);
+  // Plain names, not structured bindings: the lambdas below capture them (clang 14, which
+  // the sanitizer build may use, cannot capture structured bindings).
+  const TiltedPlate t;
+  const grid::UniformGrid& grid = t.grid;
+  const double dx = t.dx, dt = t.dt;
+  const Eigen::Vector3d &c = t.c, &n = t.n, &along = t.along;
+  for (const Eigen::Vector3d& plate_velocity : t.plate_velocities) {
     // The film at n, and where it is at n+1, moved with the plate.
     const auto film = [&](const Eigen::Vector3d& x, double t) {
       return n.dot(x - c - t * plate_velocity) - 0.37 * dx;
     };
     const Eigen::Vector3d u = plate_velocity + 0.5 * along + 1.5 * n;  // off the plate
-    NodeFields nodes(grid, 0.0, false);
-    for (int a = 0; a < 3; ++a) std::fill(nodes.velocity(a).begin(), nodes.velocity(a).end(), u[a]);
+    const MovingPlate scene(t, plate_velocity, u);
+    const ShellGeometry& geometry = scene.geometry;
     std::vector<double> phi(grid.size(Location::Node)), out(phi.size());
     for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
       phi[i] = film(grid.position(Location::Node, i), 0.0);
     LevelSetAdvector advector(grid);
     std::vector<std::int64_t> invalid;
-    advector.advect(phi, nodes, dt, geometry, &band, out, invalid);
+    advector.advect(phi, scene.nodes, dt, geometry, &scene.band, out, invalid);
     int slid = 0;
     double worst_clipped = 0.0;  // how much drier the path stopped at the plate reads
     for (std::int64_t i = 0; i < grid.size(Location::Node); ++i) {
@@ -148,23 +177,16 @@ TEST(ShellFilm, AirAboveAFilmIsNotTracedOntoItWhileWaterComingAtTheShellArrives)
   // off, drier by more than 0.1Δx (asserted too, so the test is not vacuous). Water
   // beyond an air gap instead (φ falling off the plate: a layer 1.2Δx off it) comes at the
   // plate: those nodes trace with the whole velocity.
-  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i(16, 16, 16));
-  const double dx = grid.dx();
-  const Eigen::Vector3d c(0.5, 0.5 + 0.3 * dx, 0.5);
-  const Eigen::Vector3d n = tilt() * Eigen::Vector3d::UnitY();
-  const Eigen::Vector3d along = tilt() * Eigen::Vector3d(1.0, 0.0, 0.4).normalized();
-  const double dt = 0.4 * dx;
-  for (const Eigen::Vector3d& plate_velocity :
-       {Eigen::Vector3d::Zero().eval(), (-0.3 * n + 0.2 * along).eval()}) {
-    sdk::ShellSurface plate = test::make_plate(c, n, 1.4, 15);
-    plate.velocities.rowwise() = plate_velocity.transpose();
-    const std::vector<sdk::ShellSurface> shells{plate};
-    const ShellGeometry geometry(shells, 1e-3 * dx);
-    geometry::ShellBand band(grid);
-    band.add(geometry::TriangleMesh(plate), 3.0 * dx);
+  // Plain names, not structured bindings: the lambdas below capture them (clang 14, which
+  // the sanitizer build may use, cannot capture structured bindings).
+  const TiltedPlate t;
+  const grid::UniformGrid& grid = t.grid;
+  const double dx = t.dx, dt = t.dt;
+  const Eigen::Vector3d &c = t.c, &n = t.n, &along = t.along;
+  for (const Eigen::Vector3d& plate_velocity : t.plate_velocities) {
     const Eigen::Vector3d u = plate_velocity + 0.5 * along - 1.5 * n;  // onto the plate
-    NodeFields nodes(grid, 0.0, false);
-    for (int a = 0; a < 3; ++a) std::fill(nodes.velocity(a).begin(), nodes.velocity(a).end(), u[a]);
+    const MovingPlate scene(t, plate_velocity, u);
+    const ShellGeometry& geometry = scene.geometry;
     // On the plate's +n side, away from the tank's walls, outside its wedge, within Δx.
     const auto near_plate = [&](const Eigen::Vector3d& x) {
       const bool inside = (x.array() >= 2.0 * dx).all() && (x.array() <= 1.0 - 2.0 * dx).all();
@@ -180,7 +202,7 @@ TEST(ShellFilm, AirAboveAFilmIsNotTracedOntoItWhileWaterComingAtTheShellArrives)
       };
       for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
         phi[i] = film(grid.position(Location::Node, i), 0.0);
-      advector.advect(phi, nodes, dt, geometry, &band, out, invalid);
+      advector.advect(phi, scene.nodes, dt, geometry, &scene.band, out, invalid);
       int checked = 0;
       double worst_traced = 0.0;  // how much drier the whole velocity's trace reads
       for (std::int64_t i = 0; i < grid.size(Location::Node); ++i) {
@@ -198,7 +220,7 @@ TEST(ShellFilm, AirAboveAFilmIsNotTracedOntoItWhileWaterComingAtTheShellArrives)
       const auto layer = [&](const Eigen::Vector3d& x) { return 1.2 * dx - n.dot(x - c); };
       for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
         phi[i] = layer(grid.position(Location::Node, i));
-      advector.advect(phi, nodes, dt, geometry, &band, out, invalid);
+      advector.advect(phi, scene.nodes, dt, geometry, &scene.band, out, invalid);
       int checked = 0;
       for (std::int64_t i = 0; i < grid.size(Location::Node); ++i) {
         const Eigen::Vector3d x = grid.position(Location::Node, i);
