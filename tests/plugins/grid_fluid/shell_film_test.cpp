@@ -125,8 +125,6 @@ TEST(ShellFilm, APathBackIntoTheShellSlidesAlongItAndKeepsTheFilm) {
   // a linear φ (to round-off). Stopped at the plate (the constant continuation there), it
   // read the film's dry nodes, more than 0.1Δx too dry: the test asserts that too, so it is
   // not vacuous. Static, and moving off the film's side at 0.3 m/s and along it.
-  // Plain names, not structured bindings: the lambdas below capture them (clang 14, which
-  // the sanitizer build may use, cannot capture structured bindings).
   const TiltedPlate t;
   const grid::UniformGrid& grid = t.grid;
   const double dx = t.dx, dt = t.dt;
@@ -177,8 +175,6 @@ TEST(ShellFilm, AirAboveAFilmIsNotTracedOntoItWhileWaterComingAtTheShellArrives)
   // off, drier by more than 0.1Δx (asserted too, so the test is not vacuous). Water
   // beyond an air gap instead (φ falling off the plate: a layer 1.2Δx off it) comes at the
   // plate: those nodes trace with the whole velocity.
-  // Plain names, not structured bindings: the lambdas below capture them (clang 14, which
-  // the sanitizer build may use, cannot capture structured bindings).
   const TiltedPlate t;
   const grid::UniformGrid& grid = t.grid;
   const double dx = t.dx, dt = t.dt;
