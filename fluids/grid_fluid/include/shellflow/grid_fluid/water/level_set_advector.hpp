@@ -93,8 +93,8 @@ class LevelSetAdvector {
   ///    The film's surface moves off or onto the shell only as fast as the film thins or
   ///    thickens, O(thickness/length) of its speed; extrapolated from thicker water, u's
   ///    normal part traced the air above onto the film and dried it, a sliver a step (a
-  ///    sheet sliding down a tilted plate: −14.6 % at 1 s against −7.5 % without it).
-  ///    Water that comes at the shell from beyond x (φ falling away from it) keeps it.
+  ///    sheet sliding down a tilted plate read −14.6 % at 1 s with that part, −7.4 %
+  ///    without). Water that comes at the shell from beyond x (φ falling off it) keeps it.
   Eigen::Vector3d off_shells(const Eigen::Vector3d& x, const Eigen::Vector3d& u,
                              std::span<const double> phi, std::int64_t node, double dt,
                              const ShellGeometry& shells) const;
