@@ -92,21 +92,41 @@ struct TiltedPlate {
   Eigen::Vector3d along = tilt() * Eigen::Vector3d(1.0, 0.0, 0.4).normalized();
   double dt = 0.4 * dx;
   std::array<Eigen::Vector3d, 2> plate_velocities{Eigen::Vector3d::Zero(), -0.3 * n + 0.2 * along};
+
+  /// x's signed distance from the plate at rest, + on the film's side.
+  double off_plate(const Eigen::Vector3d& x) const { return n.dot(x - c); }
+  /// Two cells or more from the tank's walls (nearer, a path back is cut at the wall).
+  bool away_from_walls(const Eigen::Vector3d& x) const {
+    return (x.array() >= 2.0 * dx).all() && (x.array() <= 1.0 - 2.0 * dx).all();
+  }
+  /// A film's linear φ, its surface parallel to the plate 0.37Δx off it, water towards the
+  /// plate, after `time` of moving with the plate at `velocity`.
+  double film(const Eigen::Vector3d& x, const Eigen::Vector3d& velocity, double time) const {
+    return off_plate(x - time * velocity) - 0.37 * dx;
+  }
+  /// f at every node.
+  template <class F>
+  std::vector<double> on_nodes(F f) const {
+    std::vector<double> v(grid.size(Location::Node));
+    for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
+      v[i] = f(grid.position(Location::Node, i));
+    return v;
+  }
 };
 
 /// That plate moving at `velocity`: its geometry, its 3Δx band, and node velocities u
 /// throughout.
 struct MovingPlate {
-  MovingPlate(const TiltedPlate& t, const Eigen::Vector3d& velocity, const Eigen::Vector3d& u)
-      : shells{moving(t, velocity)},
-        geometry(shells, 1e-3 * t.dx),
-        band(t.grid),
-        nodes(t.grid, 0.0, false) {
-    band.add(geometry::TriangleMesh(shells.front()), 3.0 * t.dx);
+  MovingPlate(const TiltedPlate& tank, const Eigen::Vector3d& velocity, const Eigen::Vector3d& u)
+      : shells{moving(tank, velocity)},
+        geometry(shells, 1e-3 * tank.dx),
+        band(tank.grid),
+        nodes(tank.grid, 0.0, false) {
+    band.add(geometry::TriangleMesh(shells.front()), 3.0 * tank.dx);
     for (int a = 0; a < 3; ++a) std::fill(nodes.velocity(a).begin(), nodes.velocity(a).end(), u[a]);
   }
-  static sdk::ShellSurface moving(const TiltedPlate& t, const Eigen::Vector3d& velocity) {
-    sdk::ShellSurface plate = test::make_plate(t.c, t.n, 1.4, 15);
+  static sdk::ShellSurface moving(const TiltedPlate& tank, const Eigen::Vector3d& velocity) {
+    sdk::ShellSurface plate = test::make_plate(tank.c, tank.n, 1.4, 15);
     plate.velocities.rowwise() = velocity.transpose();
     return plate;
   }
@@ -125,44 +145,44 @@ TEST(ShellFilm, APathBackIntoTheShellSlidesAlongItAndKeepsTheFilm) {
   // a linear φ (to round-off). Stopped at the plate (the constant continuation there), it
   // read the film's dry nodes, more than 0.1Δx too dry: the test asserts that too, so it is
   // not vacuous. Static, and moving off the film's side at 0.3 m/s and along it.
-  const TiltedPlate t;
-  const grid::UniformGrid& grid = t.grid;
-  const double dx = t.dx, dt = t.dt;
-  const Eigen::Vector3d &c = t.c, &n = t.n, &along = t.along;
-  for (const Eigen::Vector3d& plate_velocity : t.plate_velocities) {
+  const TiltedPlate tank;
+  const grid::UniformGrid& grid = tank.grid;
+  for (const Eigen::Vector3d& plate_velocity : tank.plate_velocities) {
     // The film at n, and where it is at n+1, moved with the plate.
-    const auto film = [&](const Eigen::Vector3d& x, double t) {
-      return n.dot(x - c - t * plate_velocity) - 0.37 * dx;
+    const auto film = [&](const Eigen::Vector3d& x, double time) {
+      return tank.film(x, plate_velocity, time);
     };
-    const Eigen::Vector3d u = plate_velocity + 0.5 * along + 1.5 * n;  // off the plate
-    const MovingPlate scene(t, plate_velocity, u);
+    const Eigen::Vector3d u = plate_velocity + 0.5 * tank.along + 1.5 * tank.n;  // off the plate
+    const MovingPlate scene(tank, plate_velocity, u);
     const ShellGeometry& geometry = scene.geometry;
-    std::vector<double> phi(grid.size(Location::Node)), out(phi.size());
-    for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
-      phi[i] = film(grid.position(Location::Node, i), 0.0);
+    const std::vector<double> phi =
+        tank.on_nodes([&](const Eigen::Vector3d& x) { return film(x, 0.0); });
+    std::vector<double> out(phi.size());
     LevelSetAdvector advector(grid);
     std::vector<std::int64_t> invalid;
-    advector.advect(phi, scene.nodes, dt, geometry, &scene.band, out, invalid);
+    advector.advect(phi, scene.nodes, tank.dt, geometry, &scene.band, out, invalid);
     int slid = 0;
     double worst_clipped = 0.0;  // how much drier the path stopped at the plate reads
     for (std::int64_t i = 0; i < grid.size(Location::Node); ++i) {
       const Eigen::Vector3d x = grid.position(Location::Node, i);
-      // On the water side, away from the tank's walls (there the path is cut at the wall),
-      // outside the plate's wedge (§4.1: a node in it has no side to slide on).
-      const bool inside = (x.array() >= 2.0 * dx).all() && (x.array() <= 1.0 - 2.0 * dx).all();
-      if (!inside || n.dot(x - c) <= 0.01 * dx || !geometry.first_hit(x, x - dt * u)) continue;
+      const Eigen::Vector3d back = x - tank.dt * u;
+      // On the water side, away from the tank's walls, outside the plate's wedge (§4.1: a
+      // node in it has no side to slide on).
+      if (!tank.away_from_walls(x) || tank.off_plate(x) <= 0.01 * tank.dx ||
+          !geometry.first_hit(x, back))
+        continue;
       ++slid;
       // Round-off of a few sums of O(1) values.
-      EXPECT_NEAR(out[i], film(x, dt), 1e-12) << "node " << x.transpose();
-      const Eigen::Vector3d stopped = geometry.clip(
-          x, x - dt * u, geometry::WedgeCaster::kSemiLagrangianFactor * geometry.epsilon());
+      EXPECT_NEAR(out[i], film(x, tank.dt), 1e-12) << "node " << x.transpose();
+      const Eigen::Vector3d stopped =
+          geometry.clip(x, back, geometry::WedgeCaster::kSemiLagrangianFactor * geometry.epsilon());
       worst_clipped =
           std::max(worst_clipped, *advector.sample_visible(phi, stopped, geometry, nullptr, false) -
                                       film(stopped, 0.0));
     }
     EXPECT_TRUE(invalid.empty());
     EXPECT_GT(slid, 40) << "plate velocity " << plate_velocity.transpose();
-    EXPECT_GT(worst_clipped, 0.1 * dx) << "plate velocity " << plate_velocity.transpose();
+    EXPECT_GT(worst_clipped, 0.1 * tank.dx) << "plate velocity " << plate_velocity.transpose();
   }
 }
 
@@ -175,29 +195,27 @@ TEST(ShellFilm, AirAboveAFilmIsNotTracedOntoItWhileWaterComingAtTheShellArrives)
   // off, drier by more than 0.1Δx (asserted too, so the test is not vacuous). Water
   // beyond an air gap instead (φ falling off the plate: a layer 1.2Δx off it) comes at the
   // plate: those nodes trace with the whole velocity.
-  const TiltedPlate t;
-  const grid::UniformGrid& grid = t.grid;
-  const double dx = t.dx, dt = t.dt;
-  const Eigen::Vector3d &c = t.c, &n = t.n, &along = t.along;
-  for (const Eigen::Vector3d& plate_velocity : t.plate_velocities) {
-    const Eigen::Vector3d u = plate_velocity + 0.5 * along - 1.5 * n;  // onto the plate
-    const MovingPlate scene(t, plate_velocity, u);
+  const TiltedPlate tank;
+  const grid::UniformGrid& grid = tank.grid;
+  const double dx = tank.dx, dt = tank.dt;
+  for (const Eigen::Vector3d& plate_velocity : tank.plate_velocities) {
+    const Eigen::Vector3d u = plate_velocity + 0.5 * tank.along - 1.5 * tank.n;  // onto the plate
+    const MovingPlate scene(tank, plate_velocity, u);
     const ShellGeometry& geometry = scene.geometry;
     // On the plate's +n side, away from the tank's walls, outside its wedge, within Δx.
     const auto near_plate = [&](const Eigen::Vector3d& x) {
-      const bool inside = (x.array() >= 2.0 * dx).all() && (x.array() <= 1.0 - 2.0 * dx).all();
-      const double off = n.dot(x - c);
-      return inside && off > 0.01 * dx && off < dx;
+      const double off = tank.off_plate(x);
+      return tank.away_from_walls(x) && off > 0.01 * dx && off < dx;
     };
     LevelSetAdvector advector(grid);
-    std::vector<double> phi(grid.size(Location::Node)), out(phi.size());
+    std::vector<double> out(grid.size(Location::Node));
     std::vector<std::int64_t> invalid;
     {
-      const auto film = [&](const Eigen::Vector3d& x, double t) {
-        return n.dot(x - c - t * plate_velocity) - 0.37 * dx;
+      const auto film = [&](const Eigen::Vector3d& x, double time) {
+        return tank.film(x, plate_velocity, time);
       };
-      for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
-        phi[i] = film(grid.position(Location::Node, i), 0.0);
+      const std::vector<double> phi =
+          tank.on_nodes([&](const Eigen::Vector3d& x) { return film(x, 0.0); });
       advector.advect(phi, scene.nodes, dt, geometry, &scene.band, out, invalid);
       int checked = 0;
       double worst_traced = 0.0;  // how much drier the whole velocity's trace reads
@@ -213,9 +231,9 @@ TEST(ShellFilm, AirAboveAFilmIsNotTracedOntoItWhileWaterComingAtTheShellArrives)
       EXPECT_GT(worst_traced, 0.1 * dx) << "plate velocity " << plate_velocity.transpose();
     }
     {
-      const auto layer = [&](const Eigen::Vector3d& x) { return 1.2 * dx - n.dot(x - c); };
-      for (std::int64_t i = 0; i < grid.size(Location::Node); ++i)
-        phi[i] = layer(grid.position(Location::Node, i));
+      // A layer 1.2Δx off the plate, air between.
+      const std::vector<double> phi =
+          tank.on_nodes([&](const Eigen::Vector3d& x) { return 1.2 * dx - tank.off_plate(x); });
       advector.advect(phi, scene.nodes, dt, geometry, &scene.band, out, invalid);
       int checked = 0;
       for (std::int64_t i = 0; i < grid.size(Location::Node); ++i) {
