@@ -277,28 +277,27 @@ TEST_F(TwoWayScenes, ALightCurtainInAWaterJetIsPushedAndTheWaterKept) {
                                               R"(
       "pins": {"grid": ["top_left", "top_right"]}}]})");
   SceneRun run(file);
-  const auto volume = [&] { return reported(*run.fluid, "water_volume"); };
-  // The emitter's rate, measured before the jet reaches the cloth (0.8 m at 4 m/s: 0.2 s).
-  while (run.loop->time() < 0.05 - 1e-9) run.loop->step(run.loop->next_dt(1e9), 1e9);
-  const double t0 = run.loop->time(), v0 = volume();
-  while (run.loop->time() < 0.15 - 1e-9) run.loop->step(run.loop->next_dt(1e9), 1e9);
-  const double rate = (volume() - v0) / (run.loop->time() - t0);
   double fastest = 0.0;
   while (run.loop->time() < 0.6 - 1e-9) {
     run.loop->step(run.loop->next_dt(1e9), 1e9);
     for (const auto& s : run.loop->shells())
       fastest = std::max(fastest, s.velocities.rowwise().norm().maxCoeff());
   }
-  const double expected = v0 + rate * (run.loop->time() - t0);
+  // What the emitter gave (its fill and its held faces' flow: the volume budget) against
+  // what the tank holds.
+  const double volume = reported(*run.fluid, "water_volume");
+  const double drift = reported(*run.fluid, "water_volume_drift");
   std::printf(
-      "curtain in a water jet: %.4f m^3 at %.2f s against %.4f emitted (%.3f m^3/s); "
+      "[  figure  ] curtain in a water jet: %.4f m^3 at %.2f s of %.4f given (%+.1f %%); "
       "cloth at most %.2f m/s\n",
-      volume(), run.loop->time(), expected, rate, std::max(fastest, 0.0));
-  // Measured +5.3 % (the level set's own drift as the jet splashes on the cloth; −18 %
-  // with the pull). It read +2.0 % while water_volume cut the water with the cloth where
-  // it stood a step before, behind the water that follows it. The bound: that and half
-  // again.
-  EXPECT_NEAR(volume(), expected, 0.08 * expected);
+      volume, run.loop->time(), volume - drift, 100.0 * drift / (volume - drift), fastest);
+  // Measured −6.8 %: the jet is 4 cells across, and in flight the level set alone loses
+  // some of it (the scene run at 60 frames a second read −15 % at 0.12 s, before the jet
+  // reaches the cloth). The test compared against the volume's growth in that flight, which
+  // hid that loss: it read +5.3 %, and then +20 % once the nodes the cloth sweeps took φ
+  // where the water came from and the water on the cloth was no longer lost. With the
+  // pull, −40 %. The bound: the measured and half again.
+  EXPECT_NEAR(volume, volume - drift, 0.10 * (volume - drift));
   // The jet's water moves at 4 m/s; a cloth it pushes moves no faster than that water,
   // save for the elastic rebound of its free corners (measured: 4.8 m/s; 21 m/s with the
   // pull).

@@ -298,9 +298,11 @@ TEST(GridFluidShells, WaterInAShakenCupMakesNoWater) {
   // water sloshes below its rim. Air nodes next to the wall whose extrapolated velocity
   // moved them off it carried the wall's wet side out into the air, and the water rose up
   // the wall: +32 % by 5 s here (+55 % in 7.5 s at 48 cells with 16 particles per cell).
-  // The volume swings with the wall's motion: −8.4 … +0.1 % here now (ends −3.9 %), and
-  // over the scene's 3 s at 48 cells with particles, −4.8 … +4.2 % (README, Known limits).
-  // The bounds: that swing and half again.
+  // The volume swings with the wall's motion: −2.0 … +5.2 % here now (ends +3.1 %). The
+  // nodes a wall sweeps took the average of their neighbours, which lost water (−15 % of it
+  // in 5 s, by phase), behind a gain in reinitialisation next to the walls (+11.5 %): −8.0
+  // … +0.1 % (ends −2.0 %). They now take φ where the water there came from, and the gain
+  // shows (README, Known limits). The bounds: that swing and half again.
   auto run = load("water_sloshing_cup.json", [](nlohmann::json& fluid) {
     fluid["resolution"] = 32;
     fluid["water"]["particles"]["per_cell"] = 0;
@@ -321,8 +323,8 @@ TEST(GridFluidShells, WaterInAShakenCupMakesNoWater) {
       "[  figure  ] shaken cup, 32 cells, level set alone, 5 s: water %+.1f %% "
       "(%+.1f … %+.1f %%)\n",
       100.0 * (volume() / v0 - 1.0), 100.0 * (lowest / v0 - 1.0), 100.0 * (highest / v0 - 1.0));
-  EXPECT_LT(highest, 1.03 * v0);
-  EXPECT_GT(lowest, 0.86 * v0);
+  EXPECT_LT(highest, 1.08 * v0);
+  EXPECT_GT(lowest, 0.97 * v0);
 }
 
 }  // namespace

@@ -99,6 +99,14 @@ Eigen::Vector3d ShellGeometry::velocity_at(const geometry::WedgeHit& hit) const 
   return v;
 }
 
+std::optional<Eigen::Vector3d> ShellGeometry::point_at(const geometry::WedgeHit& hit) const {
+  if (hit.shell < 0 || hit.shell >= shell_count()) return std::nullopt;
+  const geometry::TriangleMesh& mesh = m_shells[hit.shell]->mesh;
+  if (hit.triangle < 0 || hit.triangle >= mesh.triangle_count()) return std::nullopt;
+  const geometry::TriangleCorners c = mesh.corners(hit.triangle);
+  return hit.barycentric[0] * c[0] + hit.barycentric[1] * c[1] + hit.barycentric[2] * c[2];
+}
+
 double ShellGeometry::surface_density_at(const geometry::WedgeHit& hit) const {
   const auto& sigma = m_shells[hit.shell]->surface_density;
   if (sigma.size() == 0) return 0.0;
@@ -173,6 +181,7 @@ std::optional<ShellContact> ShellGeometry::nearest(const Eigen::Vector3d& p, dou
   c.point = closest.point;
   c.velocity = velocity_at(best);
   c.on_open_edge = on_open_edge(best.shell, best.triangle, best.barycentric);
+  c.where = best;
   // The distance gradient, unless p is on the surface to round-off (1e-9 of the reach).
   if (c.distance > 1e-9 * reach) {
     c.normal = (p - c.point) / c.distance;

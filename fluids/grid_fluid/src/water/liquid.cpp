@@ -119,12 +119,56 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   m_particles.seed(m_level_set, ShellGeometry());
 }
 
+void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry::ShellBand& band) {
+  // The shapes' distances see no shell: a water node next to one may hold its distance to a
+  // face of its shape that lies on the shell (a box of water on a shelf), which is no
+  // surface. Fast marching holds such a node's |φ| (§4.4.1), and a layer a cell or two thick
+  // then read short, and lost that much each time it moved by a cell. Such a node, whose
+  // nearest point of its shape (x − φ∇φ) is its nearest point of a shell to within a tenth
+  // of a cell (a gap the grid cannot tell from none), becomes deep water, −band, which the
+  // march lowers to its distance from the surface it sees. A shell that only meets the
+  // shape's surface (a plate piercing a pool) has its nearest point elsewhere.
+  const grid::UniformGrid& grid = m_level_set.grid();
+  const double dx = grid.dx(), tolerance = 0.1 * dx, deep = m_level_set.band();
+  const Eigen::Vector3i n = grid.counts(Location::Node);
+  const std::vector<double> built = m_level_set.phi();
+  auto& phi = m_level_set.phi();
+  const auto list = band.samples(Location::Node);
+  const std::int64_t m = static_cast<std::int64_t>(list.size());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t s = 0; s < m; ++s) {
+    const std::int64_t i = list[s];
+    const double p = built[i];
+    if (p > -tolerance) continue;  // air, or on the surface (the shell at hand is not it)
+    const Eigen::Vector3i ijk = grid.coordinates(Location::Node, i);
+    if (shells.hidden_axis_neighbours(grid, ijk) == 0) continue;
+    Eigen::Vector3d gradient;
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Vector3i lo = ijk, hi = ijk;
+      lo[a] = std::max(ijk[a] - 1, 0);
+      hi[a] = std::min(ijk[a] + 1, n[a] - 1);
+      gradient[a] =
+          hi[a] == lo[a]
+              ? 0.0
+              : (built[grid.index(Location::Node, hi)] - built[grid.index(Location::Node, lo)]) /
+                    ((hi[a] - lo[a]) * dx);
+    }
+    if (!(gradient.norm() > 0.0)) continue;
+    const Eigen::Vector3d x = grid.position(Location::Node, ijk);
+    const Eigen::Vector3d on_shape = x - p * gradient.normalized();
+    const auto contact = shells.nearest(x, -p + tolerance, x);
+    if (contact && (contact->point - on_shape).norm() <= tolerance) phi[i] = -deep;
+  }
+}
+
 void Liquid::settle_among_shells(const ShellGeometry& shells, const geometry::ShellBand* band) {
   if (m_built.empty()) return;
   // Unless φ was given since (a test's own field), which is then left as it is.
   if (!shells.empty() && bytes_hash(m_level_set.phi()) == m_marched_hash) {
     m_level_set.phi() = m_built;
+    if (band != nullptr) forget_faces_on_shells(shells, *band);
     m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
+    m_particles.seed(m_level_set, shells);  // about that φ, and kept off the shells
   }
   std::vector<double>().swap(m_built);
 }
@@ -213,12 +257,56 @@ void Liquid::add_sources(double t, DomainBoundary& boundary) {
   m_stats.t_level_set += seconds_since(start);
 }
 
-void Liquid::refill(std::span<const std::uint8_t> node_valid_before, const ShellGeometry& shells) {
+void Liquid::refill(std::span<const std::uint8_t> node_valid_before, const NodeFields& velocity,
+                    double dt, const ShellGeometry& shells_n, const ShellGeometry& shells) {
   const auto start = std::chrono::steady_clock::now();
   if (!node_valid_before.empty()) {
-    // Swept nodes hold φ from the other side of the shell (§3).
+    // Swept nodes hold φ from the other side of the shell (§3); they lie on the side the
+    // shell moved away from. A swept node takes φ^n where the water there came from, on its
+    // side of the shell then: back along the shell by its own (refilled) velocity, and
+    // across it by its nearest shell point's move over the step, which the water next to
+    // the shell keeps up with, or by the water's own move where that lags. A film on a
+    // shell thinner than a cell rides along; the average of the neighbours, the film's dry
+    // nodes, erased it. (The shell's whole move, along it too, held the water's edge where
+    // it was on a wall moving away from the water, which falls there: the shaken cup made
+    // 11 % of its water in 5 s.) A node with no such point (none near, another topology)
+    // or nothing visible there is refilled with the others below.
+    const grid::UniformGrid& grid = m_level_set.grid();
+    const double reach = 3.0 * grid.dx();
+    const std::span<const double> phi_n = m_scratch;  // advect() left φ^n there
+    auto& phi = m_level_set.phi();
+    m_swept.clear();
     for (std::int64_t i = 0; i < static_cast<std::int64_t>(node_valid_before.size()); ++i)
-      if (node_valid_before[i] == 0) m_invalid.push_back(i);
+      if (node_valid_before[i] == 0) m_swept.push_back(i);
+    m_swept_value.assign(m_swept.size(), kInfinity);  // none yet
+    const std::int64_t count = static_cast<std::int64_t>(m_swept.size());
+#pragma omp parallel for schedule(dynamic, 64)
+    for (std::int64_t k = 0; k < count; ++k) {
+      const std::int64_t i = m_swept[k];
+      const Eigen::Vector3d x = grid.position(Location::Node, i);
+      const auto contact = shells.nearest(x, reach, x);
+      if (!contact) continue;
+      const auto from = shells_n.point_at(contact->where);
+      if (!from) continue;
+      const Eigen::Vector3d& normal = contact->normal;
+      const Eigen::Vector3d u(velocity.velocity(0)[i], velocity.velocity(1)[i],
+                              velocity.velocity(2)[i]);
+      // Across the shell: its move, or the water's where that lags it, never faster into
+      // it. Water that a shell outran leaves a gap (air), which the node may be in: the
+      // move back then ends on the shell's place at n or beyond it, on the wrong side.
+      const double moved = normal.dot(contact->point - *from);
+      const double across = std::max(moved, dt * normal.dot(u));
+      if (contact->distance + moved - across <= 0.0) continue;
+      const Eigen::Vector3d back = across * normal + dt * (u - normal.dot(u) * normal);
+      if (const auto v = m_advector.sample_visible(phi_n, x - back, shells_n))
+        m_swept_value[k] = *v;
+    }
+    for (std::int64_t k = 0; k < count; ++k) {
+      if (m_swept_value[k] == kInfinity)
+        m_invalid.push_back(m_swept[k]);
+      else
+        phi[m_swept[k]] = m_swept_value[k];
+    }
   }
   for (const std::int64_t i : m_invalid) m_valid[i] = 0;
   m_stats.invalid_nodes = static_cast<std::int64_t>(m_invalid.size());

@@ -177,6 +177,7 @@ void ParticleLevelSet::compact(const std::vector<std::uint8_t>& keep) {
 
 void ParticleLevelSet::seed(const LevelSet& phi, const ShellGeometry& shells) {
   if (!enabled()) return;
+  compact(std::vector<std::uint8_t>(m_x.size(), 0));  // afresh
   seed_cells(phi, shells, false, nullptr);
   m_stats.negative = std::count(m_sign.begin(), m_sign.end(), std::int8_t(-1));
   m_stats.positive = size() - m_stats.negative;

@@ -27,6 +27,7 @@ struct ShellContact {
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< unit, towards the query's side
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();  ///< the object's velocity there
   bool on_open_edge = false;  ///< the point lies on an edge with one triangle (a rim, a hem)
+  geometry::WedgeHit where;   ///< its shell, triangle and barycentric coordinates
 };
 
 /// A face of the MAC grid whose segment between its two cell centres meets a shell (Fig. 5).
@@ -80,6 +81,9 @@ class ShellGeometry {
                                       const Eigen::Vector3d& side) const;
   /// The velocity at a hit.
   Eigen::Vector3d velocity_at(const geometry::WedgeHit& hit) const;
+  /// Where the material point of a hit (its triangle and barycentric coordinates) is in
+  /// these shells; none when they have no such triangle (a shell with another topology).
+  std::optional<Eigen::Vector3d> point_at(const geometry::WedgeHit& hit) const;
   /// The wedge [a, b] meets first (thickness ε), or none; hit.shell is an internal index.
   std::optional<geometry::WedgeHit> first_hit(const Eigen::Vector3d& a,
                                               const Eigen::Vector3d& b) const {

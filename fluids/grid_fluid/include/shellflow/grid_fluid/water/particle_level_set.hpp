@@ -121,7 +121,7 @@ class ParticleLevelSet {
               const geometry::ShellBand* band, ParticleArrays& out,
               const LevelSet* escaped_from = nullptr) const;
 
-  /// Fills the band about φ's surface (the start of a run).
+  /// Fills the band about φ's surface afresh (the start of a run).
   void seed(const LevelSet& phi, const ShellGeometry& shells);
   void advect(const NodeFields& velocity, double dt, const ShellGeometry& shells_n,
               const geometry::ShellBand* band);
