@@ -257,57 +257,61 @@ void Liquid::add_sources(double t, DomainBoundary& boundary) {
   m_stats.t_level_set += seconds_since(start);
 }
 
+void Liquid::carry_swept_nodes(std::span<const std::uint8_t> node_valid_before,
+                               const NodeFields& velocity, double dt, const ShellGeometry& shells_n,
+                               const ShellGeometry& shells) {
+  // Swept nodes hold φ from the other side of the shell (§3); they lie on the side the
+  // shell moved away from. A swept node takes φ^n where the water there came from, on its
+  // side of the shell then: back along the shell by its own (refilled) velocity, and
+  // across it by its nearest shell point's move over the step, which the water next to
+  // the shell keeps up with, or by the water's own move where that lags. A film on a
+  // shell thinner than a cell rides along; the average of the neighbours, the film's dry
+  // nodes, erased it. (The shell's whole move, along it too, held the water's edge where
+  // it was on a wall moving away from the water, which falls there: the shaken cup made
+  // 11 % of its water in 5 s.) A node with no such point (none near, beyond an open edge,
+  // another topology) or nothing visible there is refilled with the others below.
+  const grid::UniformGrid& grid = m_level_set.grid();
+  const double reach = 3.0 * grid.dx();
+  const std::span<const double> phi_n = m_scratch;  // advect() left φ^n there
+  auto& phi = m_level_set.phi();
+  m_swept.clear();
+  for (std::int64_t i = 0; i < static_cast<std::int64_t>(node_valid_before.size()); ++i)
+    if (node_valid_before[i] == 0) m_swept.push_back(i);
+  m_swept_value.assign(m_swept.size(), kInfinity);  // none yet
+  const std::int64_t count = static_cast<std::int64_t>(m_swept.size());
+#pragma omp parallel for schedule(dynamic, 64)
+  for (std::int64_t k = 0; k < count; ++k) {
+    const std::int64_t i = m_swept[k];
+    const Eigen::Vector3d x = grid.position(Location::Node, i);
+    const auto contact = shells.nearest(x, reach, x);
+    if (!contact || contact->on_open_edge) continue;  // beyond a hem: no side to keep to
+    const auto from = shells_n.point_at(contact->where);
+    if (!from) continue;
+    const Eigen::Vector3d& normal = contact->normal;
+    const Eigen::Vector3d u(velocity.velocity(0)[i], velocity.velocity(1)[i],
+                            velocity.velocity(2)[i]);
+    // Across the shell: its move, or the water's where that lags it, never faster into
+    // it. Water that a shell outran leaves a gap (air), which the node may be in: the
+    // move back then ends on the shell's place at n or beyond it, on the wrong side.
+    const double moved = normal.dot(contact->point - *from);
+    const double across = std::max(moved, dt * normal.dot(u));
+    if (contact->distance + moved - across <= 0.0) continue;
+    const Eigen::Vector3d back = across * normal + dt * (u - normal.dot(u) * normal);
+    if (const auto v = m_advector.sample_visible(phi_n, x - back, shells_n)) m_swept_value[k] = *v;
+  }
+  for (std::int64_t k = 0; k < count; ++k) {
+    if (m_swept_value[k] == kInfinity)
+      m_invalid.push_back(m_swept[k]);
+    else
+      phi[m_swept[k]] = m_swept_value[k];
+  }
+}
+
 void Liquid::refill(std::span<const std::uint8_t> node_valid_before, const NodeFields& velocity,
                     double dt, const ShellGeometry& shells_n, const ShellGeometry& shells) {
   const auto start = std::chrono::steady_clock::now();
-  if (!node_valid_before.empty()) {
-    // Swept nodes hold φ from the other side of the shell (§3); they lie on the side the
-    // shell moved away from. A swept node takes φ^n where the water there came from, on its
-    // side of the shell then: back along the shell by its own (refilled) velocity, and
-    // across it by its nearest shell point's move over the step, which the water next to
-    // the shell keeps up with, or by the water's own move where that lags. A film on a
-    // shell thinner than a cell rides along; the average of the neighbours, the film's dry
-    // nodes, erased it. (The shell's whole move, along it too, held the water's edge where
-    // it was on a wall moving away from the water, which falls there: the shaken cup made
-    // 11 % of its water in 5 s.) A node with no such point (none near, another topology)
-    // or nothing visible there is refilled with the others below.
-    const grid::UniformGrid& grid = m_level_set.grid();
-    const double reach = 3.0 * grid.dx();
-    const std::span<const double> phi_n = m_scratch;  // advect() left φ^n there
-    auto& phi = m_level_set.phi();
-    m_swept.clear();
-    for (std::int64_t i = 0; i < static_cast<std::int64_t>(node_valid_before.size()); ++i)
-      if (node_valid_before[i] == 0) m_swept.push_back(i);
-    m_swept_value.assign(m_swept.size(), kInfinity);  // none yet
-    const std::int64_t count = static_cast<std::int64_t>(m_swept.size());
-#pragma omp parallel for schedule(dynamic, 64)
-    for (std::int64_t k = 0; k < count; ++k) {
-      const std::int64_t i = m_swept[k];
-      const Eigen::Vector3d x = grid.position(Location::Node, i);
-      const auto contact = shells.nearest(x, reach, x);
-      if (!contact) continue;
-      const auto from = shells_n.point_at(contact->where);
-      if (!from) continue;
-      const Eigen::Vector3d& normal = contact->normal;
-      const Eigen::Vector3d u(velocity.velocity(0)[i], velocity.velocity(1)[i],
-                              velocity.velocity(2)[i]);
-      // Across the shell: its move, or the water's where that lags it, never faster into
-      // it. Water that a shell outran leaves a gap (air), which the node may be in: the
-      // move back then ends on the shell's place at n or beyond it, on the wrong side.
-      const double moved = normal.dot(contact->point - *from);
-      const double across = std::max(moved, dt * normal.dot(u));
-      if (contact->distance + moved - across <= 0.0) continue;
-      const Eigen::Vector3d back = across * normal + dt * (u - normal.dot(u) * normal);
-      if (const auto v = m_advector.sample_visible(phi_n, x - back, shells_n))
-        m_swept_value[k] = *v;
-    }
-    for (std::int64_t k = 0; k < count; ++k) {
-      if (m_swept_value[k] == kInfinity)
-        m_invalid.push_back(m_swept[k]);
-      else
-        phi[m_swept[k]] = m_swept_value[k];
-    }
-  }
+  if (!node_valid_before.empty())
+    carry_swept_nodes(node_valid_before, velocity, dt, shells_n, shells);
   for (const std::int64_t i : m_invalid) m_valid[i] = 0;
   m_stats.invalid_nodes = static_cast<std::int64_t>(m_invalid.size());
   m_advector.refill(m_level_set.phi(), m_valid, m_invalid, shells);

@@ -128,6 +128,11 @@ class Liquid {
   /// At the first step: water nodes next to a shell whose φ is their distance to it (a face
   /// of the scene's shape on the shell) made deep water, for the march to set.
   void forget_faces_on_shells(const ShellGeometry& shells, const geometry::ShellBand& band);
+  /// refill(): the nodes the shells swept take φ^n where their water came from; those that
+  /// cannot are added to m_invalid.
+  void carry_swept_nodes(std::span<const std::uint8_t> node_valid_before,
+                         const NodeFields& velocity, double dt, const ShellGeometry& shells_n,
+                         const ShellGeometry& shells);
 
   LevelSet m_level_set;
   std::vector<double> m_scratch;      ///< φ* being advected; after advect(), φ^n
