@@ -384,8 +384,8 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   }
   const ShellGeometry& geom_np1 = m_geometry_np1 && shells ? *m_geometry_np1 : none;
   if (m_liquid) {  // §4.4.1: φ refilled, then a signed distance again, against shells^{n+1}
-    m_liquid->refill(shells ? m_refill.node_valid_before() : std::span<const std::uint8_t>(),
-                     m_nodes, dt, geom_n, geom_np1);
+    m_liquid->refill(shells ? m_refill.swept_nodes() : std::span<const std::int64_t>(), m_nodes, dt,
+                     geom_n, geom_np1);
     m_liquid->reinitialize(geom_n, geom_np1, band, t + dt);
   }
 

@@ -131,7 +131,7 @@ void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry:
   const grid::UniformGrid& grid = m_level_set.grid();
   const double dx = grid.dx(), tolerance = 0.1 * dx, deep = m_level_set.band();
   const Eigen::Vector3i n = grid.counts(Location::Node);
-  const std::vector<double> built = m_level_set.phi();
+  const std::vector<double>& built = m_built;  // φ reads it, and is set below
   auto& phi = m_level_set.phi();
   const auto list = band.samples(Location::Node);
   const std::int64_t m = static_cast<std::int64_t>(list.size());
@@ -257,8 +257,8 @@ void Liquid::add_sources(double t, DomainBoundary& boundary) {
   m_stats.t_level_set += seconds_since(start);
 }
 
-void Liquid::carry_swept_nodes(std::span<const std::uint8_t> node_valid_before,
-                               const NodeFields& velocity, double dt, const ShellGeometry& shells_n,
+void Liquid::carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFields& velocity,
+                               double dt, const ShellGeometry& shells_n,
                                const ShellGeometry& shells) {
   // Swept nodes hold φ from the other side of the shell (§3); they lie on the side the
   // shell moved away from. A swept node takes φ^n where the water there came from, on its
@@ -274,14 +274,11 @@ void Liquid::carry_swept_nodes(std::span<const std::uint8_t> node_valid_before,
   const double reach = 3.0 * grid.dx();
   const std::span<const double> phi_n = m_scratch;  // advect() left φ^n there
   auto& phi = m_level_set.phi();
-  m_swept.clear();
-  for (std::int64_t i = 0; i < static_cast<std::int64_t>(node_valid_before.size()); ++i)
-    if (node_valid_before[i] == 0) m_swept.push_back(i);
-  m_swept_value.assign(m_swept.size(), kInfinity);  // none yet
-  const std::int64_t count = static_cast<std::int64_t>(m_swept.size());
+  m_swept_value.assign(swept.size(), kInfinity);  // none yet
+  const std::int64_t count = static_cast<std::int64_t>(swept.size());
 #pragma omp parallel for schedule(dynamic, 64)
   for (std::int64_t k = 0; k < count; ++k) {
-    const std::int64_t i = m_swept[k];
+    const std::int64_t i = swept[k];
     const Eigen::Vector3d x = grid.position(Location::Node, i);
     const auto contact = shells.nearest(x, reach, x);
     if (!contact || contact->on_open_edge) continue;  // beyond a hem: no side to keep to
@@ -301,17 +298,16 @@ void Liquid::carry_swept_nodes(std::span<const std::uint8_t> node_valid_before,
   }
   for (std::int64_t k = 0; k < count; ++k) {
     if (m_swept_value[k] == kInfinity)
-      m_invalid.push_back(m_swept[k]);
+      m_invalid.push_back(swept[k]);
     else
-      phi[m_swept[k]] = m_swept_value[k];
+      phi[swept[k]] = m_swept_value[k];
   }
 }
 
-void Liquid::refill(std::span<const std::uint8_t> node_valid_before, const NodeFields& velocity,
-                    double dt, const ShellGeometry& shells_n, const ShellGeometry& shells) {
+void Liquid::refill(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
+                    const ShellGeometry& shells_n, const ShellGeometry& shells) {
   const auto start = std::chrono::steady_clock::now();
-  if (!node_valid_before.empty())
-    carry_swept_nodes(node_valid_before, velocity, dt, shells_n, shells);
+  if (!swept.empty()) carry_swept_nodes(swept, velocity, dt, shells_n, shells);
   for (const std::int64_t i : m_invalid) m_valid[i] = 0;
   m_stats.invalid_nodes = static_cast<std::int64_t>(m_invalid.size());
   m_advector.refill(m_level_set.phi(), m_valid, m_invalid, shells);

@@ -105,11 +105,11 @@ class Liquid {
   void advect(double t, const NodeFields& velocity, double dt, const ShellGeometry& shells,
               const geometry::ShellBand* band);
   void add_sources(double t, DomainBoundary& boundary);
-  /// `node_valid_before` flags (0) the nodes the shells swept n → n+1 (SweptRefill); may
-  /// be empty. `velocity`: the node velocities after the advection, swept nodes refilled;
-  /// `shells_n`, `shells`: the shells at the start and the end of the step.
-  void refill(std::span<const std::uint8_t> node_valid_before, const NodeFields& velocity,
-              double dt, const ShellGeometry& shells_n, const ShellGeometry& shells);
+  /// `swept`: the nodes the shells swept n → n+1 (SweptRefill::swept_nodes); may be empty.
+  /// `velocity`: the node velocities after the advection, swept nodes refilled; `shells_n`,
+  /// `shells`: the shells at the start and the end of the step.
+  void refill(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
+              const ShellGeometry& shells_n, const ShellGeometry& shells);
   /// `shells_n`, `shells`: the shells at the start and the end of the step; `t_end`: the
   /// time at the end of the step.
   void reinitialize(const ShellGeometry& shells_n, const ShellGeometry& shells,
@@ -125,18 +125,17 @@ class Liquid {
                    const geometry::ShellBand* band);
 
  private:
-  /// At the first step: water nodes next to a shell whose φ is their distance to it (a face
-  /// of the scene's shape on the shell) made deep water, for the march to set.
+  /// At the first step, φ just set to m_built: water nodes next to a shell whose φ is their
+  /// distance to it (a face of the scene's shape on the shell) made deep water, for the
+  /// march to set.
   void forget_faces_on_shells(const ShellGeometry& shells, const geometry::ShellBand& band);
   /// refill(): the nodes the shells swept take φ^n where their water came from; those that
   /// cannot are added to m_invalid.
-  void carry_swept_nodes(std::span<const std::uint8_t> node_valid_before,
-                         const NodeFields& velocity, double dt, const ShellGeometry& shells_n,
-                         const ShellGeometry& shells);
+  void carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
+                         const ShellGeometry& shells_n, const ShellGeometry& shells);
 
   LevelSet m_level_set;
   std::vector<double> m_scratch;      ///< φ* being advected; after advect(), φ^n
-  std::vector<std::int64_t> m_swept;  ///< refill(): the nodes the shells swept this step
   std::vector<double> m_swept_value;  ///< refill(): their φ^n carried with the shell
   std::vector<double> m_built;    ///< φ as the scene built it, until the first step
   size_t m_marched_hash = 0;      ///< of φ as marched at construction
