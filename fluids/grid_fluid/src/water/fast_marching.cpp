@@ -81,6 +81,9 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
           next_to_shell = side == 0 ? p - phi[j] : phi[j] - p;
           continue;
         }
+        // A neighbour on this side at the band's end holds no distance (the first φ's deep
+        // water next to a shell, which the march sets): it says nothing of the slope.
+        if (water && phi[j] <= -band) continue;
         difference[a] += side == 0 ? p - phi[j] : phi[j] - p;
         ++span[a];
       }

@@ -17,6 +17,9 @@ using grid::Location;
 namespace {
 
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+/// |cos| of the angle within which a shape's face counts as lying along a shell (25°: a
+/// 32-sided cup's facets turn 11° from one to the next).
+constexpr double kFaceAlongShell = 0.9;
 
 /// A hash of a field's bits: has it changed since?
 size_t bytes_hash(const std::vector<double>& v) {
@@ -121,13 +124,14 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
 
 void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry::ShellBand& band) {
   // The shapes' distances see no shell: a water node next to one may hold its distance to a
-  // face of its shape that lies on the shell (a box of water on a shelf), which is no
-  // surface. Fast marching holds such a node's |φ| (§4.4.1), and a layer a cell or two thick
-  // then read short, and lost that much each time it moved by a cell. Such a node, whose
-  // nearest point of its shape (x − φ∇φ) is its nearest point of a shell to within a tenth
-  // of a cell (a gap the grid cannot tell from none), becomes deep water, −band, which the
-  // march lowers to its distance from the surface it sees. A shell that only meets the
-  // shape's surface (a plate piercing a pool) has its nearest point elsewhere.
+  // face of its shape that lies on the shell (a box of water on a shelf, a cup's water by
+  // its wall), which is no surface. Fast marching holds such a node's |φ| (§4.4.1): a layer
+  // a cell or two thick then read short, and lost that much each time it moved by a cell,
+  // and the nodes held by a cup's wall seeded the march with their distance to it (still
+  // water stirred at 0.4 m/s). Such a node (its nearest shell point as far as its face, to a
+  // tenth of a cell: a gap the grid cannot tell from none) is marched again from the
+  // surface it sees. A shell that only meets the shape's surface (a plate piercing a pool)
+  // is nearer than the surface to the nodes about it.
   const grid::UniformGrid& grid = m_level_set.grid();
   const double dx = grid.dx(), tolerance = 0.1 * dx, deep = m_level_set.band();
   const Eigen::Vector3i n = grid.counts(Location::Node);
@@ -139,25 +143,52 @@ void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry:
   for (std::int64_t s = 0; s < m; ++s) {
     const std::int64_t i = list[s];
     const double p = built[i];
-    if (p > -tolerance) continue;  // air, or on the surface (the shell at hand is not it)
+    if (p > 0.0) continue;  // air
     const Eigen::Vector3i ijk = grid.coordinates(Location::Node, i);
-    if (shells.hidden_axis_neighbours(grid, ijk) == 0) continue;
-    Eigen::Vector3d gradient;
-    for (int a = 0; a < 3; ++a) {
-      Eigen::Vector3i lo = ijk, hi = ijk;
-      lo[a] = std::max(ijk[a] - 1, 0);
-      hi[a] = std::min(ijk[a] + 1, n[a] - 1);
-      gradient[a] =
-          hi[a] == lo[a]
-              ? 0.0
-              : (built[grid.index(Location::Node, hi)] - built[grid.index(Location::Node, lo)]) /
-                    ((hi[a] - lo[a]) * dx);
-    }
-    if (!(gradient.norm() > 0.0)) continue;
+    const std::uint32_t hidden = shells.hidden_axis_neighbours(grid, ijk);
+    if (hidden == 0) continue;
     const Eigen::Vector3d x = grid.position(Location::Node, ijk);
-    const Eigen::Vector3d on_shape = x - p * gradient.normalized();
     const auto contact = shells.nearest(x, -p + tolerance, x);
-    if (contact && (contact->point - on_shape).norm() <= tolerance) phi[i] = -deep;
+    if (!contact) continue;
+    if (p <= -tolerance) {
+      // Its nearest shell point as far as its nearest point of the shape: the shell touches
+      // the ball of water about the node where the shape's surface does.
+      if (contact->distance < -p - tolerance) continue;
+    } else {
+      // Within a tenth of a cell of its face any nearby shell is that near: the face must
+      // lie along the shell, ahead of the node (a box's water line next to its wall is the
+      // free surface; a node beyond the shell, in a sliver of the shape it cuts off, is no
+      // water of this side). φ's central differences give the face's normal.
+      Eigen::Vector3d gradient;
+      for (int a = 0; a < 3; ++a) {
+        Eigen::Vector3i lo = ijk, hi = ijk;
+        lo[a] = std::max(ijk[a] - 1, 0);
+        hi[a] = std::min(ijk[a] + 1, n[a] - 1);
+        gradient[a] =
+            hi[a] == lo[a]
+                ? 0.0
+                : (built[grid.index(Location::Node, hi)] - built[grid.index(Location::Node, lo)]) /
+                      ((hi[a] - lo[a]) * dx);
+      }
+      if (!(gradient.norm() > 0.0)) continue;
+      const Eigen::Vector3d normal = gradient.normalized();
+      if ((contact->point - x).dot(normal) <= 0.0) continue;
+      if (std::abs(normal.dot(contact->normal)) < kFaceAlongShell) continue;
+    }
+    // Deep water, unless a neighbour it sees lies across the surface: the surface then lies
+    // between them, where a plane square to their axis through that neighbour's distance
+    // puts it (its own φ held where the surface is; −band would read it next to the node).
+    double across = -kInfinity;
+    for (int a = 0; a < 3; ++a)
+      for (int side = 0; side < 2; ++side) {
+        if ((hidden >> (2 * a + side) & 1u) != 0) continue;
+        Eigen::Vector3i j = ijk;
+        j[a] += side == 0 ? -1 : 1;
+        if (j[a] < 0 || j[a] >= n[a]) continue;
+        const double q = built[grid.index(Location::Node, j)];
+        if (q > 0.0) across = std::max(across, q);
+      }
+    phi[i] = across == -kInfinity ? -deep : std::min(across - dx, 0.0);
   }
 }
 

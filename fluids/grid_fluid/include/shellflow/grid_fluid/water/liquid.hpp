@@ -126,8 +126,8 @@ class Liquid {
 
  private:
   /// At the first step, φ just set to m_built: water nodes next to a shell whose φ is their
-  /// distance to it (a face of the scene's shape on the shell) made deep water, for the
-  /// march to set.
+  /// distance to it (a face of the scene's shape on the shell) made deep water for the march
+  /// to set, or, next to a node across the surface, given the distance that node implies.
   void forget_faces_on_shells(const ShellGeometry& shells, const geometry::ShellBand& band);
   /// refill(): the nodes the shells swept take φ^n where their water came from; those that
   /// cannot are added to m_invalid.
