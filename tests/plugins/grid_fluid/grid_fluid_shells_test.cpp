@@ -302,7 +302,9 @@ TEST(GridFluidShells, WaterInAShakenCupMakesNoWater) {
   // nodes a wall sweeps took the average of their neighbours, which lost water (−15 % of it
   // in 5 s, by phase), behind a gain in reinitialisation next to the walls (+11.5 %): −8.0
   // … +0.1 % (ends −2.0 %). They now take φ where the water there came from, and the gain
-  // shows (README, Known limits). The bounds: that swing and half again.
+  // showed (−1.8 … +5.5 %, ends +3.9 %): most of it was the Euler ray's own, which grows
+  // the traced water in irrotational flow. Traced from the midpoint (6 Dec 2026): −3.8 …
+  // +1.8 %, ends −2.1 % (README, Known limits). The bounds: that swing and half again.
   auto run = load("water_sloshing_cup.json", [](nlohmann::json& fluid) {
     fluid["resolution"] = 32;
     fluid["water"]["particles"]["per_cell"] = 0;
@@ -323,8 +325,8 @@ TEST(GridFluidShells, WaterInAShakenCupMakesNoWater) {
       "[  figure  ] shaken cup, 32 cells, level set alone, 5 s: water %+.1f %% "
       "(%+.1f … %+.1f %%)\n",
       100.0 * (volume() / v0 - 1.0), 100.0 * (lowest / v0 - 1.0), 100.0 * (highest / v0 - 1.0));
-  EXPECT_LT(highest, 1.08 * v0);
-  EXPECT_GT(lowest, 0.97 * v0);
+  EXPECT_LT(highest, 1.03 * v0);
+  EXPECT_GT(lowest, 0.94 * v0);
 }
 
 }  // namespace

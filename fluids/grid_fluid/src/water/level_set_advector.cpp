@@ -70,9 +70,11 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
           const std::int64_t node = i + sy * j + sz * k;
           const Eigen::Vector3d x = m_grid.position(Location::Node, Eigen::Vector3i(i, j, k));
           const bool banded = !in_band.empty() && in_band[node] != 0;
-          const Eigen::Vector3d u =
-              banded ? off_shells(x, velocity.velocity_at(node), in, node, dt, shells)
-                     : velocity.velocity_at(node);
+          Eigen::Vector3d u = banded
+                                  ? off_shells(x, velocity.velocity_at(node), in, node, dt, shells)
+                                  : velocity.velocity_at(node);
+          if (m_trace == Trace::Midpoint)
+            u = midpoint_velocity(x, u, velocity, in, node, dt, banded, shells, eps_prime);
           const Eigen::Vector3d departure = (x - dt * u).cwiseMax(lower).cwiseMin(upper);
           double* node_range = range ? range + 2 * node : nullptr;
           if (!banded) {
@@ -119,6 +121,26 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
         }
   }
   for (const auto& list : per_thread) invalid.insert(invalid.end(), list.begin(), list.end());
+}
+
+Eigen::Vector3d LevelSetAdvector::midpoint_velocity(
+    const Eigen::Vector3d& x, const Eigen::Vector3d& u, const NodeFields& velocity,
+    std::span<const double> phi, std::int64_t node, double dt, bool banded,
+    const ShellGeometry& shells, double epsilon) const {
+  const Eigen::Vector3d mid = (x - 0.5 * dt * u).cwiseMax(m_grid.origin()).cwiseMin(m_grid.upper());
+  if (banded && !shells.visible(x, mid, epsilon)) return u;
+  const NodeStencil st = node_stencil(m_grid, mid);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double weights = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    const std::int64_t corner = st.corner(m_grid, c);
+    if (banded && !shells.visible(mid, m_grid.position(Location::Node, corner))) continue;
+    sum += st.weight(c) * velocity.velocity_at(corner);
+    weights += st.weight(c);
+  }
+  if (!(weights > 0.0)) return u;
+  return banded ? off_shells(x, sum / weights, phi, node, dt, shells)
+                : Eigen::Vector3d(sum / weights);
 }
 
 Eigen::Vector3d LevelSetAdvector::off_shells(const Eigen::Vector3d& x, const Eigen::Vector3d& u,

@@ -69,6 +69,14 @@ sdk::Schema Liquid::schema() {
                       "stencil (Selle et al. 2008), at twice the cost; keeps curved water's "
                       "volume (with constant extrapolation a 64-cell dam break blew up: README, "
                       "Known limits)"))
+      .field("trace",
+             Schema::string("midpoint")
+                 .one_of({"midpoint", "euler"})
+                 .doc("which velocity a node's ray back follows when φ is advected. "
+                      "midpoint: the velocity at x − u dt/2 (second order in time). euler: "
+                      "the node's own, the paper's, whose traced water grows in "
+                      "irrotational flow by O(dt |∇u|²) a second (water sloshing in a tank "
+                      "+3.5 % in 4 s against −0.2 %; README, Known limits)"))
       .field("particles", ParticleLevelSet::schema())
       .field("volume_by_phase",
              Schema::boolean(false).doc(
@@ -88,7 +96,10 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
                const Eigen::Vector3d& up, double fps, const DomainBoundary& boundary,
                const Eigen::Vector3d& gravity)
     : m_level_set(grid, params.at("band").get<double>() * grid.dx()),
-      m_advector(grid, params.at("advection").get<std::string>() == "maccormack"),
+      m_advector(grid, params.at("advection").get<std::string>() == "maccormack",
+                 params.at("trace").get<std::string>() == "euler"
+                     ? LevelSetAdvector::Trace::Euler
+                     : LevelSetAdvector::Trace::Midpoint),
       m_fast_marching(grid),
       m_extrapolation(grid, params.at("extrapolation_profile").get<std::string>() == "linear"),
       m_particles(params.at("particles"), grid, fps, gravity) {
