@@ -5,14 +5,14 @@
 // as its velocity (§4.1: clipped against wedges of doubled thickness 2ε, so the base point
 // is visible from the node); of the 8 nodes of the base point's cell, one that is not
 // visible from the base point takes the wetter (the lower φ) of two continuations of the
-// base point's side across the shell: linear, 2φ(d) − φ(2d − c) through each visible corner d of
-// its nearest ring (one edge, then a face diagonal, then the cell's diagonal away) whose mirror
-// node 2d − c is visible too, averaged; and constant, the mean of that nearest ring of
-// visible corners. The linear one keeps a film on a shell thinner than a cell: its dry
-// nodes hold less than their distance to the shell, and constant continuation reads them
-// as the water's φ, a bias upwards that erased such a film. The constant one keeps water
-// held against a moving wall, whose small |φ| there the linear one reads as the water
-// ending at the wall. A ray the shell would clip slides along the shell instead, its
+// base point's side across the shell: linear, 2φ(d) − φ(2d − c) through each visible
+// corner d of its nearest ring (one edge, then a face diagonal, then the cell's diagonal
+// away) whose mirror node 2d − c is visible too, averaged; and constant, the mean of that
+// nearest ring of visible corners. The linear one keeps a film on a shell thinner than a
+// cell: its dry nodes hold less than their distance to the shell, and constant continuation
+// reads them as the water's φ, a bias upwards that erased such a film. The constant one
+// keeps water held against a moving wall, whose small |φ| there the linear one reads as
+// the water ending at the wall. A ray the shell would clip slides along the shell instead, its
 // normal part relative to the shell taken out (the water next to a shell neither passes
 // through it nor leaves it; the node velocities there, averaged from faces the shell
 // closes per axis, carry such a part that is not the water's). Where the slid ray meets a
@@ -38,6 +38,7 @@
 // revolution: -100% and +1.6%); the particles of §4.4.2 are the paper's cure. Not the
 // default: a 64-cell dam break blew up with it (its speed doubling every 10 steps).
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -56,7 +57,10 @@ class LevelSetAdvector {
 
   explicit LevelSetAdvector(const grid::UniformGrid& grid, bool maccormack = false,
                             Trace trace = Trace::Midpoint)
-      : m_grid(grid), m_maccormack(maccormack), m_trace(trace) {}
+      : m_grid(grid),
+        m_maccormack(maccormack),
+        m_trace(trace),
+        m_corner_offset(node_corner_offsets(grid)) {}
 
   bool maccormack() const { return m_maccormack; }
 
@@ -94,9 +98,12 @@ class LevelSetAdvector {
   void trace(std::span<const double> in, const NodeFields& velocity, double dt,
              const ShellGeometry& shells, const geometry::ShellBand* band, std::span<double> out,
              double* range, std::vector<std::int64_t>& invalid) const;
-  /// The velocity node x traces with: u, except at an air node within Δx of a shell (not
-  /// at its open edge, past which water runs on) where its normal part relative to the
-  /// shell is taken out:
+  /// The shell point an air node x (φ = p > 0) is within Δx of, unless it lies on an open
+  /// edge (past which water runs on): the shell off_shells measures u against.
+  std::optional<ShellContact> air_contact(const Eigen::Vector3d& x, double p,
+                                          const ShellGeometry& shells) const;
+  /// The velocity node x traces with: u, except at an air node in `contact` with a shell
+  /// (air_contact) where its normal part relative to the shell is taken out:
   ///  - where u moves x off the shell. Extrapolated from the water, that part carried the
   ///    shell's wet side out into the air: water from nothing (a cup shaken sideways gained
   ///    55 % in 7.5 s, the water rising up its wall);
@@ -106,17 +113,22 @@ class LevelSetAdvector {
   ///    normal part traced the air above onto the film and dried it, a sliver a step (a
   ///    sheet sliding down a tilted plate read −14.6 % at 1 s with that part, −7.4 %
   ///    without). Water that comes at the shell from beyond x (φ falling off it) keeps it.
-  Eigen::Vector3d off_shells(const Eigen::Vector3d& x, const Eigen::Vector3d& u,
-                             std::span<const double> phi, std::int64_t node, double dt,
+  Eigen::Vector3d off_shells(const Eigen::Vector3d& x, const Eigen::Vector3d& u, double p,
+                             const ShellContact& contact, std::span<const double> phi, double dt,
                              const ShellGeometry& shells) const;
   /// The velocity the ray from node x follows over dt (Trace::Midpoint): the node
-  /// velocities interpolated at x − u dt/2, where u is the node's own (off_shells'd in the
-  /// band); in the band only the corners seen from there count, and off_shells applies
-  /// again. u itself where that point lies across a shell or sees no corner.
+  /// velocities interpolated at x − u dt/2, u being the node's own (after off_shells). In
+  /// the shell band (`in_band` not empty) only the corners seen from there count (a corner
+  /// outside the band is at least the band's margin, 2Δx, from any shell, farther than the
+  /// corner's distance from the midpoint: seen), and off_shells applies again for an air
+  /// node in `contact` with a shell. u itself where that point lies across a shell or sees
+  /// no corner.
   Eigen::Vector3d midpoint_velocity(const Eigen::Vector3d& x, const Eigen::Vector3d& u,
                                     const NodeFields& velocity, std::span<const double> phi,
-                                    std::int64_t node, double dt, bool banded,
-                                    const ShellGeometry& shells, double epsilon) const;
+                                    std::int64_t node, double dt,
+                                    std::span<const std::uint8_t> in_band,
+                                    const ShellContact* contact, const ShellGeometry& shells,
+                                    double epsilon) const;
   /// Whether φ (p at x, > 0) says water lies between x and the shell it is in `contact`
   /// with: φ a cell further off, on x's side, is larger, and the line through the two
   /// falls below zero before the shell.
@@ -134,6 +146,7 @@ class LevelSetAdvector {
   grid::UniformGrid m_grid;
   bool m_maccormack = false;
   Trace m_trace = Trace::Midpoint;
+  std::array<std::int64_t, 8> m_corner_offset;  ///< node_corner_offsets(m_grid)
   std::vector<double> m_range;  ///< per node: the forward stencil's least, greatest value
   std::vector<double> m_back;   ///< the forward result traced back
   std::vector<std::int64_t> m_back_invalid;  ///< nodes the backward trace could not sample
