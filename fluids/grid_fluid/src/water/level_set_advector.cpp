@@ -139,15 +139,10 @@ Eigen::Vector3d LevelSetAdvector::midpoint_velocity(
   const bool banded = !in_band.empty();
   const Eigen::Vector3d mid = (x - 0.5 * dt * u).cwiseMax(m_grid.origin()).cwiseMin(m_grid.upper());
   if (banded && !shells.visible(x, mid, epsilon)) return u;
-  // Every node takes this path: the corners by offsets, the weights once (no index
-  // arithmetic per corner; the first version cost the cup pour preview 10 % of its run).
+  // The nodes near the surface take this path: the corners by offsets from the first (no
+  // index arithmetic per corner).
   const NodeStencil st = node_stencil(m_grid, mid);
-  const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
-  const std::int64_t first =
-      st.base.x() + nodes.x() * (st.base.y() + std::int64_t(nodes.y()) * st.base.z());
-  const Eigen::Vector3d& f = st.fraction;
-  const double wx[2] = {1.0 - f.x(), f.x()}, wy[2] = {1.0 - f.y(), f.y()},
-               wz[2] = {1.0 - f.z(), f.z()};
+  const std::int64_t first = st.corner(m_grid, 0);
   const double* v[3] = {velocity.velocity(0).data(), velocity.velocity(1).data(),
                         velocity.velocity(2).data()};
   double sum[3] = {0.0, 0.0, 0.0}, weights = 0.0;
@@ -156,7 +151,7 @@ Eigen::Vector3d LevelSetAdvector::midpoint_velocity(
     if (banded && in_band[corner] != 0 &&
         !shells.visible(mid, m_grid.position(Location::Node, corner)))
       continue;
-    const double w = wx[c & 1] * wy[(c >> 1) & 1] * wz[c >> 2];
+    const double w = st.weight(c);
     for (int a = 0; a < 3; ++a) sum[a] += w * v[a][corner];
     weights += w;
   }
