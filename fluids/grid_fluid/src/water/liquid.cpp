@@ -464,26 +464,57 @@ double Liquid::volume(const ShellGeometry* shells, const geometry::ShellBand* ba
     const double reach = std::sqrt(3.0) * dx;
     if (lowest > reach || highest < -reach) return 0.0;
     // The corners the centre sees (its rays cast once, here); the first it does not see
-    // stands on the far side.
+    // that sees any stands on the far side (a corner on the shell, in its wedge, sees none).
     const unsigned near_seen = m_advector.seen_corner_values(phi, centre, st, *shells, seen.data());
     if (near_seen == 0 || near_seen == 0xffu) return 0.0;  // in a wedge, or no corner cut off
     const auto contact = shells->nearest(centre, dx, centre);
     if (!contact) return 0.0;
-    const int far_corner = std::countr_one(near_seen);
-    const Eigen::Vector3d far = grid.position(Location::Node, st.corner(grid, far_corner));
-    const unsigned far_seen = m_advector.seen_corner_values(phi, far, st, *shells, across.data());
+    unsigned far_seen = 0;
+    for (int k = 0; k < 8 && far_seen == 0; ++k)
+      if ((near_seen >> k & 1u) == 0)
+        far_seen = m_advector.seen_corner_values(
+            phi, grid.position(Location::Node, st.corner(grid, k)), st, *shells, across.data());
     if (far_seen == 0) return 0.0;
+    // The plane of the shell point nearest the centre parts the cell where it parts the
+    // corners as the rays do. Where it does not, a corner neither side sees (a third side:
+    // a cup's wall above its bottom; a corner on the shell) or one on the wrong side of the
+    // plane (a corner of the cup's polygon), the cell's water is sampled: read by the plane
+    // of whichever shell was nearer, a ring of cells about a cup's bottom changed by half a
+    // cell each as that switched between its wall and its bottom (water standing in a cup,
+    // read at eight places against the grid: −3.1 … −0.2 % off; now −0.1 … +0.9 %).
+    bool parted = (near_seen | far_seen) == 0xffu;
     for (int k = 0; k < 8; ++k) {
       side[k] = contact->normal.dot(grid.position(Location::Node, st.corner(grid, k)) -
                                     contact->point);  // > 0 on the centre's side
-      // A corner hidden by another shell (a cup's wall above its bottom): that side's own
-      // φ, not the continuation of water through a second shell.
-      if (side[k] > 0.0 && (near_seen >> k & 1u) == 0) seen[k] = own[k];
-      if (side[k] < 0.0 && (far_seen >> k & 1u) == 0) across[k] = own[k];
+      if ((near_seen >> k & 1u) != 0 ? side[k] < 0.0 : side[k] > 0.0) parted = false;
     }
+    if (!parted) return sampled_cell_fraction(c, own, *shells) - LevelSet::cell_fraction(own);
     return LevelSet::two_sided_cell_fraction(across, seen, side) - LevelSet::cell_fraction(own);
   });
   return whole + correction * dx * dx * dx;
+}
+
+double Liquid::sampled_cell_fraction(const Eigen::Vector3i& cell, const std::array<double, 8>& own,
+                                     const ShellGeometry& shells) const {
+  // Each point's water is a plane's through a sub-cell, φ at its centre with |∇φ| = 1
+  // (exact for a plane along the lattice, and continuous in φ: the measure does not jump
+  // as the surface crosses a point). A point in a wedge sees no corner and is left out.
+  constexpr int kPoints = 4;
+  const grid::UniformGrid& grid = m_level_set.grid();
+  const double h = grid.dx() / kPoints;
+  const Eigen::Vector3d low = grid.position(Location::Node, cell);
+  double water = 0.0;
+  int counted = 0;
+  for (int k = 0; k < kPoints; ++k)
+    for (int j = 0; j < kPoints; ++j)
+      for (int i = 0; i < kPoints; ++i) {
+        const Eigen::Vector3d q = low + h * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
+        const auto value = m_advector.sample_visible(m_level_set.phi(), q, shells);
+        if (!value) continue;
+        water += std::clamp(0.5 - *value / h, 0.0, 1.0);
+        ++counted;
+      }
+  return counted > 0 ? water / counted : LevelSet::cell_fraction(own);
 }
 
 void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,

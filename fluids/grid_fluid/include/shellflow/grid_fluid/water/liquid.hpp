@@ -119,7 +119,8 @@ class Liquid {
   /// cast; may be null without shells).
   const FreeSurface& surface(const ShellGeometry& shells, const geometry::ShellBand* band);
   /// The water's volume [m^3] (LevelSet::volume), where `shells` cut a cell of `band`
-  /// each side counted with its own φ; without shells or band, LevelSet::volume().
+  /// each side counted with its own φ (sampled where no one plane parts the sides);
+  /// without shells or band, LevelSet::volume().
   double volume(const ShellGeometry* shells, const geometry::ShellBand* band) const;
   void extrapolate(MacGrid& mac, const PressureProjection& projection, const ShellGeometry& shells,
                    const geometry::ShellBand* band);
@@ -129,6 +130,11 @@ class Liquid {
   /// distance to it (a face of the scene's shape on the shell) made deep water for the march
   /// to set, or, next to a node across the surface, given the distance that node implies.
   void forget_faces_on_shells(const ShellGeometry& shells, const geometry::ShellBand& band);
+  /// The water fraction of a cell that one plane does not part (two shells or a shell's
+  /// edge cut it: volume()), sampled on a 4×4×4 lattice of its points, each read from the
+  /// corners it sees; `own`, the cell's corners, if none sees any.
+  double sampled_cell_fraction(const Eigen::Vector3i& cell, const std::array<double, 8>& own,
+                               const ShellGeometry& shells) const;
   /// refill(): the nodes the shells swept take φ^n where their water came from; those that
   /// cannot are added to m_invalid.
   void carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
