@@ -28,6 +28,7 @@ constexpr int kResolution = 32;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 constexpr double kRadius = 0.17;
 constexpr double kHeight = 0.27;
+constexpr int kCupSegments = 32;                ///< the polygon of the cup's wall
 const Eigen::Vector3d kBase(0.33, 0.26, 0.26);  // centre of the bottom, axis +y
 
 /// The cup's rigid pose: a rotation by `angle` about the z axis through `pivot`.
@@ -49,22 +50,31 @@ struct CupPose {
   }
 };
 
-/// The cup at `pose`, its node velocities those of the rigid motion: ω × (x − pivot).
-sdk::ShellSurface make_cup(const CupPose& pose) {
-  const auto mesh = geometry::make_open_cylinder(kRadius, kHeight, 32, 6, true);
-  const Eigen::Vector3d omega(0.0, 0.0, pose.rate);
+/// The cup's mesh, each node x0 (upright, base at the origin) at place(x0) moving at
+/// velocity(place(x0)).
+sdk::ShellSurface cup_surface(
+    const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& place,
+    const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& velocity) {
+  const auto mesh = geometry::make_open_cylinder(kRadius, kHeight, kCupSegments, 6, true);
   sdk::ShellSurface s;
   s.name = "cup";
   s.positions.resize(mesh.positions.rows(), 3);
   s.velocities.resize(mesh.positions.rows(), 3);
   for (Eigen::Index i = 0; i < mesh.positions.rows(); ++i) {
-    const Eigen::Vector3d x = pose.place(kBase + mesh.positions.row(i).transpose());
+    const Eigen::Vector3d x = place(mesh.positions.row(i).transpose());
     s.positions.row(i) = x.transpose();
-    s.velocities.row(i) = omega.cross(x - pose.pivot).transpose();
+    s.velocities.row(i) = velocity(x).transpose();
   }
   s.triangles = std::make_shared<const sdk::Triangles>(mesh.triangles);
   s.surface_density = Eigen::VectorXd::Ones(mesh.triangles.rows());
   return s;
+}
+
+/// The cup at `pose`, its node velocities those of the rigid motion: ω × (x − pivot).
+sdk::ShellSurface make_cup(const CupPose& pose) {
+  const Eigen::Vector3d omega(0.0, 0.0, pose.rate);
+  return cup_surface([&](const Eigen::Vector3d& x0) { return pose.place(kBase + x0); },
+                     [&](const Eigen::Vector3d& x) { return omega.cross(x - pose.pivot); });
 }
 
 nlohmann::json cup_params(nlohmann::json water) {
@@ -217,11 +227,10 @@ TEST(WaterCup, TheWaterStandingInTheCupIsReadWhereverTheCupStands) {
   const auto fluid = test::make_fluid(cup_params(nlohmann::json::object()));
   const grid::UniformGrid& grid = fluid->grid();
   const double dx = grid.dx(), band_depth = fluid->liquid()->level_set().band();
-  constexpr int kSegments = 32;
-  const double apothem = kRadius * std::cos(std::numbers::pi / kSegments);
+  const double apothem = kRadius * std::cos(std::numbers::pi / kCupSegments);
   const double depth = 0.5 * kHeight;
-  const double exact =
-      0.5 * kSegments * kRadius * kRadius * std::sin(2.0 * std::numbers::pi / kSegments) * depth;
+  const double exact = 0.5 * kCupSegments * kRadius * kRadius *
+                       std::sin(2.0 * std::numbers::pi / kCupSegments) * depth;
   double lowest = kInfinity, highest = -kInfinity;
   for (int k = 0; k < 8; ++k) {
     const Eigen::Vector3d base =
@@ -229,20 +238,15 @@ TEST(WaterCup, TheWaterStandingInTheCupIsReadWhereverTheCupStands) {
                                      std::fmod(0.291 * k, 1.0));
     const double turn = 0.037 * k;  // [rad] about the axis; a facet spans 0.196
     const Eigen::Matrix3d r = Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    const auto mesh = geometry::make_open_cylinder(kRadius, kHeight, kSegments, 6, true);
-    sdk::ShellSurface cup;
-    cup.positions.resize(mesh.positions.rows(), 3);
-    for (Eigen::Index i = 0; i < mesh.positions.rows(); ++i)
-      cup.positions.row(i) = (base + r * mesh.positions.row(i).transpose()).transpose();
-    cup.velocities = sdk::Positions::Zero(mesh.positions.rows(), 3);
-    cup.triangles = std::make_shared<const sdk::Triangles>(mesh.triangles);
-    cup.surface_density = Eigen::VectorXd::Ones(mesh.triangles.rows());
+    const sdk::ShellSurface cup =
+        cup_surface([&](const Eigen::Vector3d& x0) { return Eigen::Vector3d(base + r * x0); },
+                    [](const Eigen::Vector3d&) { return Eigen::Vector3d::Zero().eval(); });
     auto& phi = fluid->liquid()->level_set().phi();
     for (std::int64_t i = 0; i < grid.size(Location::Node); ++i) {
       const Eigen::Vector3d local = r.transpose() * (grid.position(Location::Node, i) - base);
       // The generator's vertices lie at angles 2πs/n, at (R cos θ, ·, −R sin θ).
       const double angle = std::atan2(-local.z(), local.x());
-      const double facet = 2.0 * std::numbers::pi / kSegments;
+      const double facet = 2.0 * std::numbers::pi / kCupSegments;
       const double off_facet = angle - facet * std::floor(angle / facet) - 0.5 * facet;
       const bool inside =
           std::hypot(local.x(), local.z()) * std::cos(off_facet) < apothem && local.y() > 0.0;

@@ -58,7 +58,6 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
   const double midpoint_reach = 3.0 * m_grid.dx();
   const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
   const std::int64_t sy = nodes.x(), sz = std::int64_t(nodes.x()) * nodes.y();
-  const std::array<std::int64_t, 8> corner_offset = node_corner_offsets(m_grid);
   std::vector<std::vector<std::int64_t>> per_thread(omp_get_max_threads());
   // Row by row, the corners by offsets (no index arithmetic per corner).
 #pragma omp parallel
@@ -90,7 +89,7 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
             const std::int64_t first = st.base.x() + sy * st.base.y() + sz * st.base.z();
             double v = 0.0, lo = kInf, hi = -kInf;
             for (int c = 0; c < 8; ++c) {
-              const double value = in[first + corner_offset[c]];
+              const double value = in[first + m_corner_offset[c]];
               v += st.weight(c) * value;
               lo = std::min(lo, value);
               hi = std::max(hi, value);
