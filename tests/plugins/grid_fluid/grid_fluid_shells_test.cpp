@@ -305,7 +305,9 @@ TEST(GridFluidShells, WaterInAShakenCupMakesNoWater) {
   // showed (−1.8 … +5.5 %, ends +3.9 %): most of it was the Euler ray's own, which grows
   // the traced water in irrotational flow. Traced from the midpoint (6 Dec 2026): −3.8 …
   // +1.8 %, ends −2.1 % (README, Known limits); read with the cells at the bottom's rim
-  // sampled, −3.6 … +0.7 %, ends −3.0 %. The bounds: that swing and half again.
+  // sampled, −3.6 … +0.7 %, ends −3.0 %; with the pressure solves' face fractions (a cell
+  // the wall cuts passes the flow of its centre's side only), −2.5 … +0.9 %, ends −2.1 %.
+  // The bounds: the widest of these swings and half again.
   auto run = load("water_sloshing_cup.json", [](nlohmann::json& fluid) {
     fluid["resolution"] = 32;
     fluid["water"]["particles"]["per_cell"] = 0;

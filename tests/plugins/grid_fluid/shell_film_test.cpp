@@ -367,6 +367,113 @@ TEST(ShellFilm, FilmThinnerThanACellKeepsItsWaterWhileCarriedAlongATiltedPlate) 
 /// A 1 × 0.5 × 0.25 m tank at 32 cells with a shelf spanning it a third of a cell above a
 /// node plane (y = kShelf, air sealed beneath) and a layer `layer`Δx thick on it; the
 /// projection to 1e-6.
+TEST(ShellFilm, AFaceCutByAShellPassesThePartOfItsSquareOnItsCentresSide) {
+  // The pressure solves' face fraction (Batty et al. 2007): the area of the face's square on
+  // its centre's side of a plane, against a count of 400 × 400 midpoints (which errs by at
+  // most the cells the trace crosses, 2 × 400 of 400², 5e-3), and known values.
+  EXPECT_DOUBLE_EQ(open_square_fraction(0.0, 0.0, 0.3), 1.0);     // parallel to the face
+  EXPECT_NEAR(open_square_fraction(1.0, 0.0, 0.2), 0.7, 1e-14);   // ½ + h
+  EXPECT_NEAR(open_square_fraction(0.0, -1.0, 0.5), 1.0, 1e-14);  // along its edge
+  EXPECT_NEAR(open_square_fraction(std::sqrt(0.5), std::sqrt(0.5), 0.0), 0.5, 1e-14);
+  for (int k = 0; k < 40; ++k) {
+    const double angle = 0.37 + 1.91 * k, offset = 0.75 * std::abs(std::sin(2.3 * k + 0.2));
+    const double m1 = std::cos(angle), m2 = std::sin(angle);
+    int inside = 0;
+    constexpr int n = 400;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        inside += m1 * ((i + 0.5) / n - 0.5) + m2 * ((j + 0.5) / n - 0.5) + offset >= 0.0;
+    EXPECT_NEAR(open_square_fraction(m1, m2, offset), double(inside) / (n * n), 5e-3)
+        << "m = (" << m1 << ", " << m2 << "), offset " << offset;
+  }
+  // A level plate a third of a cell above a plane of nodes (16 cells): the x and z faces of
+  // the cells it cuts, whose centres lie half a cell up, keep ½ + 1/6 of their squares; the
+  // y faces parallel it, and no other face reaches it.
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i(16, 16, 16));
+  const double dx = grid.dx(), y = 7.0 * dx + dx / 3.0;
+  const std::vector<sdk::ShellSurface> shells{
+      test::make_plate({0.5, y, 0.5}, Eigen::Vector3d::UnitY(), 0.6, 9)};
+  const ShellGeometry geometry(shells, 1e-3 * dx);
+  geometry::ShellBand band(grid);
+  band.add(geometry::TriangleMesh(shells.front()), 2.0 * dx);
+  const auto& apertures = geometry.face_apertures(band);
+  EXPECT_TRUE(apertures[1].empty());
+  for (const int a : {0, 2}) {
+    const grid::Location loc = a == 0 ? Location::FaceX : Location::FaceZ;
+    for (const FaceAperture& open : apertures[a]) {
+      EXPECT_EQ(grid.coordinates(loc, open.face).y(), 7) << "axis " << a;
+      EXPECT_NEAR(open.fraction, 0.5 + 1.0 / 6.0, 1e-12) << "axis " << a;
+    }
+    // Every face of row 7 under the plate (it spans 0.2 … 0.8), a cell in from its edges,
+    // is there.
+    int expected = 0, inner = 0;
+    const Eigen::Vector3i counts = grid.counts(loc);
+    for (int k = 0; k < counts.z(); ++k)
+      for (int i = 0; i < counts.x(); ++i) {
+        const Eigen::Vector3d p = grid.position(loc, Eigen::Vector3i(i, 7, k));
+        if (i == 0 || k == 0 || i == counts.x() - 1 || k == counts.z() - 1) continue;
+        expected += std::abs(p.x() - 0.5) < 0.3 - dx && std::abs(p.z() - 0.5) < 0.3 - dx;
+      }
+    for (const FaceAperture& open : apertures[a]) {
+      const Eigen::Vector3d p = grid.position(loc, open.face);
+      inner += std::abs(p.x() - 0.5) < 0.3 - dx && std::abs(p.z() - 0.5) < 0.3 - dx;
+    }
+    EXPECT_GT(expected, 50);
+    EXPECT_EQ(inner, expected) << "axis " << a;
+  }
+}
+
+/// A column of water 0.25 m wide and 0.5 m high against the left wall of a tank 1 m wide at
+/// 32 cells, four cells deep, let go on a shelf spanning the tank a fraction `above` of a
+/// cell above a plane of nodes (air beneath it), or on the tank's floor (`above` < 0); the
+/// relative change of its volume after 0.33 s, before its front reaches the far wall.
+double column_collapsing_on_a_shelf(double above) {
+  // The tank's floor lies 8 cells below the shelf's plane of nodes, or is the floor itself.
+  const double dx = 1.0 / 32.0, floor = 0.25 + (above < 0.0 ? 0.0 : above * dx);
+  const double bottom = above < 0.0 ? floor : 0.0;
+  auto fluid = test::make_fluid(
+      {{"domain", {{"min", {0.0, bottom, 0.0}}, {"max", {1.0, bottom + 1.0, 4 * dx}}}},
+       {"resolution", 32},
+       {"water",
+        {{"initial",
+          {{{"type", "box"}, {"min", {-1, floor, -1}}, {"max", {0.25, floor + 0.5, 1}}}}}}}});
+  std::vector<sdk::ShellSurface> shells;
+  if (above >= 0.0)
+    shells.push_back(test::make_plate({0.5, floor, 2 * dx}, Eigen::Vector3d::UnitY(), 1.1, 12));
+  std::vector<sdk::Positions> v_eff;
+  for (const auto& s : shells) v_eff.push_back(s.velocities);
+  test::run_for(*fluid, 0.33, shells, v_eff);
+  const double volume = test::reported(*fluid, "water_volume");
+  const double change = test::reported(*fluid, "water_volume_change");
+  return change / (volume - change);
+}
+
+TEST(ShellFilm, AColumnCollapsingOnAShelfBetweenNodePlanesKeepsItsWaterAsOnTheFloor) {
+  // The collapsing column runs out along the shelf. The pressure solve took each cell the
+  // shelf cuts as all water where its centre lies above the shelf, and let the water flow
+  // into the part under it: the column sank into a shelf a third of a cell above a plane of
+  // nodes (the cells' centres half a cell up) and lost 7.4 % in 0.33 s, 3.5 % a tenth of a
+  // cell above, where on the tank's floor it loses 0.01 %. The faces of those cells now pass
+  // only their part above the shelf (face fractions): measured −0.9 % and −1.7 %. The
+  // bounds: those and half again; 0.3 % on the floor. Two thirds of a cell above the nodes,
+  // over the cells' centres, the part of a cell above the shelf belongs to no cell of the
+  // water's side and the column gains (measured +6.2 %, as before the fractions; README,
+  // Known limits): bounded, as measured and half again, so that it does not grow unseen.
+  const double floor = column_collapsing_on_a_shelf(-1.0);
+  const double third = column_collapsing_on_a_shelf(1.0 / 3.0);
+  const double tenth = column_collapsing_on_a_shelf(0.1);
+  const double two_thirds = column_collapsing_on_a_shelf(2.0 / 3.0);
+  std::printf(
+      "[  figure  ] column collapsing, 0.33 s: volume %+.2f%% on the floor; on a shelf "
+      "above a plane of nodes by a third of a cell %+.2f%%, a tenth %+.2f%%, two thirds "
+      "%+.2f%%\n",
+      100.0 * floor, 100.0 * third, 100.0 * tenth, 100.0 * two_thirds);
+  EXPECT_LT(std::abs(floor), 0.003);
+  EXPECT_LT(std::abs(third), 0.014);
+  EXPECT_LT(std::abs(tenth), 0.025);
+  EXPECT_LT(std::abs(two_thirds), 0.093);
+}
+
 constexpr double kShelfDx = 1.0 / 32.0, kShelf = 0.2104, kShelfArea = 1.0 * 0.25;
 std::unique_ptr<GridFluid> layer_on_a_shelf(double layer) {
   return test::make_fluid({{"domain", {{"min", {0, 0, 0}}, {"max", {1.0, 0.5, 0.25}}}},

@@ -163,6 +163,7 @@ Eigen::VectorXd CouplingPressure::right_hand_side(const MacGrid& mac) const {
 #pragma omp parallel for schedule(static)
   for (std::int64_t cell = 0; cell < cells; ++cell)
     b[cell] = -mac.outward_flux(m_grid.coordinates(Location::Cell, cell));
+  m_apertures.adjust_fluxes(m_grid, mac, b, -1.0);
   // Shell faces carry the shell's velocity (§5.1), not u*; a rigid body's faces enter
   // through its jumps in solve() (−Kᵀ V*, rigid_shell_coupling.hpp).
   for (const ShellFace& sf : m_shell_faces) {
@@ -189,6 +190,7 @@ void CouplingPressure::solve(Eigen::VectorXd& b, double dt, const DomainBoundary
   }
   for (const ShellFace& sf : m_shell_faces)
     if (sf.two_way()) m_laplacian.weights(sf.axis)[sf.face] = sf.body >= 0 ? 0.0 : sf.beta;
+  for (int a = 0; a < 3; ++a) m_apertures.scale_weights(a, m_laplacian.weights(a));
   if (m_surface != nullptr) {
     add_free_surface(b);
     if (!m_bodies.empty()) drop_sealed_cells(b);
@@ -608,6 +610,8 @@ CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
     m_laplacian.dirichlet().clear();
   }
   classify_faces(boundary, shells, band, set, stats);
+  m_apertures.clear();
+  if (surface != nullptr) m_apertures.gather(shells, band, m_closed);
   if (surface != nullptr && !water_at_two_way_faces()) {
     // Skip the solve: with air (p = 0) on both sides of every two-way face, every jump is
     // zero, and so is every force (a curtain before the jet reaches it: 45 % of a
@@ -616,6 +620,7 @@ CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
       if (set[si].receives_fluid_forces) forces[si].setZero();
     m_body_wrench.assign(m_bodies.size(), BodyVector::Zero());
     m_surface = nullptr;
+    m_apertures.clear();
     return stats;
   }
   Eigen::VectorXd b = right_hand_side(mac);
@@ -629,6 +634,7 @@ CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
   jumps_to_nodes(m_settings.fluid_density * dx / dt, stats);
   forces_on_triangles(set, forces, stats);
   m_surface = nullptr;
+  m_apertures.clear();
   return stats;
 }
 

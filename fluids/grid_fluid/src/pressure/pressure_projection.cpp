@@ -180,7 +180,17 @@ void PressureProjection::build_operator() {
           }
           w[local] = weight;
         }
+    for (const FaceApertures::Face& open : m_apertures.faces(a)) {
+      const Eigen::Vector3i c = m_grid.coordinates(face_location(a), open.face) - m_box_lo;
+      if ((c.array() < 0).any() || (c.array() >= faces.array()).any()) continue;
+      w[c.x() + std::int64_t(faces.x()) * (c.y() + std::int64_t(faces.y()) * c.z())] *=
+          static_cast<float>(open.fraction);
+    }
   }
+  const auto unknown_of = [&](std::int64_t cell) {
+    const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell) - m_box_lo;
+    return static_cast<int>(c.x() + box.x() * (c.y() + box.y() * std::int64_t(c.z())));
+  };
   auto& dirichlet = m_laplacian.dirichlet();
   if (m_surface == nullptr) {
     dirichlet.clear();
@@ -201,12 +211,20 @@ void PressureProjection::build_operator() {
           dirichlet[u] += inverse_theta(cell, nb);
         }
     }
+    // A liquid–air face near a shell conducts by its fraction.
+    for (int a = 0; a < 3; ++a)
+      for (const FaceApertures::Face& open : m_apertures.faces(a)) {
+        Eigen::Vector3i c = m_grid.coordinates(face_location(a), open.face);
+        const std::int64_t plus = m_grid.index(Location::Cell, c);
+        c[a] -= 1;
+        const std::int64_t minus = m_grid.index(Location::Cell, c);
+        if (air(plus) == air(minus)) continue;
+        const std::int64_t liquid = air(plus) ? minus : plus;
+        const std::int64_t other = liquid == plus ? minus : plus;
+        dirichlet[unknown_of(liquid)] += (open.fraction - 1.0) * inverse_theta(liquid, other);
+      }
   }
   // Enclosed regions, numbered 0.. in region order: their constants are the null space.
-  const auto unknown_of = [&](std::int64_t cell) {
-    const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell) - m_box_lo;
-    return static_cast<int>(c.x() + box.x() * (c.y() + box.y() * std::int64_t(c.z())));
-  };
   m_enclosed_count = m_regions.enclosed_count();
   m_first_enclosed_cell.clear();
   for (int r = 0; r < m_regions.count(); ++r)
@@ -304,6 +322,10 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
   }
   apply_boundary_velocities(mac, boundary);
   mark_neumann(mac, boundary, shells, band, stats);
+  m_apertures.clear();
+  // Water fills a cell a shell cuts on its side only (its volume is φ's): face fractions.
+  if (surface != nullptr && band != nullptr && !shells.empty())
+    m_apertures.gather(shells, *band, m_neumann);
   const bool interior_closed = stats.shell_neumann_faces > 0 || boundary.has_source_faces();
   update_fluid_regions(m_grid, m_neumann, boundary, m_regions, interior_closed,
                        surface != nullptr ? std::span<const std::uint8_t>(m_liquid)
@@ -341,6 +363,7 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < cells; ++i) p[i] = m_scaled[i] * to_pressure;
   m_surface = nullptr;
+  m_apertures.clear();
   return stats;
 }
 
@@ -363,6 +386,7 @@ void PressureProjection::cell_fluxes(const MacGrid& mac, Eigen::VectorXd& flux) 
       for (std::int64_t i = 0; i < nx; ++i)
         out[c + i] = (ux[i + 1] - ux[i]) + (vy[i + nx] - vy[i]) + (wz[i + plane] - wz[i]);
     }
+  m_apertures.adjust_fluxes(m_grid, mac, flux);
   for (int r = 0; r < m_regions.count(); ++r)  // a source sets these cells' divergence
     if (m_regions.sealed[r] != 0) out[m_regions.cells[m_regions.start[r]]] = 0.0;
 }

@@ -36,6 +36,21 @@ struct CellFaceHit {
   geometry::WedgeHit hit;  ///< where the segment first meets a wedge (thickness ε)
 };
 
+/// An open face of the MAC grid near a shell, with the share of its area that the flow on
+/// its cell centres' side of the shells passes (the pressure solves' face fraction).
+struct FaceAperture {
+  std::int64_t face;       ///< flat index in its family (UniformGrid layout)
+  double fraction;         ///< open_square_fraction() of the nearest shell's plane
+  geometry::WedgeHit hit;  ///< the nearest shell point
+};
+
+/// The open area over Δx² of a face cut by a plane: in the face's plane, with the face's
+/// centre at the origin and lengths in Δx, the part of the square [−½, ½]² where
+/// m1 s + m2 t + offset >= 0 (offset >= 0: the centre's side). 1 for a plane parallel to
+/// the face (m1 = m2 = 0); ½ + h for a plate at a distance h <= ½ from the centre that
+/// parallels one of the face's axes.
+double open_square_fraction(double m1, double m2, double offset);
+
 class ShellGeometry {
  public:
   /// No shells: everything is visible.
@@ -96,6 +111,12 @@ class ShellGeometry {
   /// within Δx/2 of a shell; later calls return the same lists whatever band they pass.
   const std::array<std::vector<CellFaceHit>, 3>& cell_face_hits(
       const geometry::ShellBand& band) const;
+  /// The open interior faces of each family whose fraction (FaceAperture) is not 1, in
+  /// face order: the plane of the shell point nearest the face's centre (within Δx/√2, not
+  /// on an open edge) cuts its square. Found once per geometry, like cell_face_hits(),
+  /// over the faces `band` samples, which must hold every face within Δx/√2 of a shell.
+  const std::array<std::vector<FaceAperture>, 3>& face_apertures(
+      const geometry::ShellBand& band) const;
   /// Whether internal shell `shell` is two-way coupled (ShellSurface::receives_fluid_forces).
   bool receives_forces(int shell) const { return m_shells[shell]->receives_forces; }
   /// Surface density [kg/m^2] of the triangle at a hit.
@@ -131,6 +152,7 @@ class ShellGeometry {
   std::unique_ptr<geometry::WedgeCaster> m_caster;
   std::vector<int> m_internal;  ///< ShellSet position -> index in m_shells (-1: empty shell)
   mutable std::optional<std::array<std::vector<CellFaceHit>, 3>> m_cell_face_hits;
+  mutable std::optional<std::array<std::vector<FaceAperture>, 3>> m_face_apertures;
   double m_epsilon = 0.0;
 };
 

@@ -29,8 +29,9 @@
 // faces: the body moves as one in the solve (rigid_shell_coupling.hpp), its faces leave
 // the Laplacian and its inverse mass and inertia enter the operator. Steps 3–4 are the same.
 //
-// With water (a FreeSurface, as the projection sees it) only the liquid cells are
-// unknowns: air cells hold p = 0, a liquid cell's face to an air cell is a Dirichlet
+// With water the faces near shells weigh by their fractions, as in the projection
+// (face_apertures.hpp). With water (a FreeSurface, as the projection sees it) only the liquid cells
+// are unknowns: air cells hold p = 0, a liquid cell's face to an air cell is a Dirichlet
 // conductance (its weight, 1 or β, times 1/θ of the ghost fluid rule; θ = 1 across a
 // shell, where φ of the far side says nothing of this side's surface), and a liquid
 // region with no face to air is enclosed. A shell face with air on both sides has no
@@ -53,6 +54,7 @@
 #include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/pressure/face_apertures.hpp"
 #include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
 #include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
 #include "shellflow/grid_fluid/pressure/rigid_shell_coupling.hpp"
@@ -167,6 +169,7 @@ class CouplingPressure {
   std::vector<BodyVector> m_body_wrench;  ///< per body: ρ Δx³/Δt K q [N; N m]
   std::vector<RigidShellFaces> m_bodies;
   const FreeSurface* m_surface = nullptr;                   ///< during compute() of a water scene
+  FaceApertures m_apertures;  ///< water: the fractions of faces near shells, as the projection
   std::vector<std::uint8_t> m_liquid;                       ///< per cell, water scenes only
   std::array<std::vector<std::uint8_t>, 3> m_two_way_face;  ///< water: faces of m_shell_faces
   FluidRegions m_regions;

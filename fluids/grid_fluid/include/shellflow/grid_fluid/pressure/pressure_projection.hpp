@@ -6,6 +6,8 @@
 //    Neumann face keeps the velocity of the object there (the effective velocity of §4.3,
 //    set on the ShellGeometry by the caller) and is left out of the Laplacian;
 //  - open domain faces are Dirichlet (p = 0 outside);
+//  - with water, an open face near a shell weighs by its fraction β in the Laplacian and
+//    the divergence (face_apertures.hpp);
 //  - a flood fill over the cells through the non-Neumann faces finds the fluid regions;
 //    a region with no Dirichlet face (enclosed: a pocket, a sealed side) gets the
 //    compatibility correction of §4.3 [Peyret and Taylor 1983]: its net boundary flux is
@@ -44,6 +46,7 @@
 #include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/pressure/face_apertures.hpp"
 #include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
 #include "shellflow/linear/constant_null_space.hpp"
 #include "shellflow/linear/grid_laplacian.hpp"
@@ -151,8 +154,9 @@ class PressureProjection {
   /// 1/θ of the face between liquid cell `liquid` and air cell `air` (FreeSurface).
   double inverse_theta(std::int64_t liquid, std::int64_t air) const;
   bool air(std::int64_t cell) const { return m_surface != nullptr && m_regions.region[cell] < 0; }
-  /// flux[c] = Σ over the six faces of cell c of u·n (= ∇·u Δx) [m/s]; 0 in a sealed
-  /// cell, whose divergence a source sets (m_regions of this projection).
+  /// flux[c] = Σ over the six faces of cell c of u·n (= ∇·u Δx) [m/s], a face of fraction
+  /// β counted as β u + (1 − β) u_shell (Batty et al. 2007); 0 in a sealed cell, whose
+  /// divergence a source sets (m_regions of this projection).
   void cell_fluxes(const MacGrid& mac, Eigen::VectorXd& flux) const;
   /// max over cells |Σ u·n| (in m_flux's storage; m_b's on a whole-grid box, where the
   /// right-hand side is spent by then and m_flux is not used).
@@ -186,6 +190,7 @@ class PressureProjection {
   linear::SparseMatrix m_matrix;           ///< CSR form for MIC(0) and CHOLMOD
   const FreeSurface* m_surface = nullptr;  ///< during project() of a water scene
   std::vector<std::uint8_t> m_liquid;      ///< per cell, water scenes only
+  FaceApertures m_apertures;               ///< water among shells: the faces' fractions
 };
 
 }  // namespace shellflow::grid_fluid
