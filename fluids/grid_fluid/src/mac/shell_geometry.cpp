@@ -6,8 +6,10 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "shellflow/geometry/mesh_edges.hpp"
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -36,6 +38,30 @@ double rectangle_area_where_positive(double s0, double s1, double t0, double t1,
     twice += p.x() * q.y() - q.x() * p.y();
   }
   return 0.5 * std::abs(twice);
+}
+
+/// What `make(face, centre)` finds at each interior face of family `axis` that `band`
+/// samples (a domain face has one cell and is left out), cast in parallel, in face order.
+template <class Entry, class Make>
+std::vector<Entry> for_each_interior_band_face(const geometry::ShellBand& band, int axis,
+                                               Make&& make) {
+  const grid::UniformGrid& grid = band.grid();
+  const grid::Location loc = face_location(axis);
+  const auto list = band.samples(loc);
+  const std::int64_t m = static_cast<std::int64_t>(list.size());
+  std::vector<std::vector<Entry>> found(omp_get_max_threads());
+#pragma omp parallel for schedule(dynamic, 256)
+  for (std::int64_t s = 0; s < m; ++s) {
+    const std::int64_t f = list[s];
+    const Eigen::Vector3i ijk = grid.coordinates(loc, f);
+    if (ijk[axis] == 0 || ijk[axis] == grid.cells()[axis]) continue;
+    if (auto entry = make(f, grid.position(loc, ijk)))
+      found[omp_get_thread_num()].push_back(*entry);
+  }
+  std::vector<Entry> all;
+  for (const auto& part : found) all.insert(all.end(), part.begin(), part.end());
+  std::sort(all.begin(), all.end(), [](const Entry& x, const Entry& y) { return x.face < y.face; });
+  return all;
 }
 
 }  // namespace
@@ -97,30 +123,17 @@ const std::array<std::vector<CellFaceHit>, 3>& ShellGeometry::cell_face_hits(
     const geometry::ShellBand& band) const {
   if (m_cell_face_hits) return *m_cell_face_hits;
   std::array<std::vector<CellFaceHit>, 3> hits;
-  const grid::UniformGrid& grid = band.grid();
-  const double half = 0.5 * grid.dx();
+  const double half = 0.5 * band.grid().dx();
   for (int a = 0; a < 3; ++a) {
     if (empty()) break;
-    const grid::Location loc = a == 0   ? grid::Location::FaceX
-                               : a == 1 ? grid::Location::FaceY
-                                        : grid::Location::FaceZ;
-    const auto list = band.samples(loc);
-    const std::int64_t m = static_cast<std::int64_t>(list.size());
-    std::vector<std::vector<CellFaceHit>> found(omp_get_max_threads());
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::int64_t s = 0; s < m; ++s) {
-      const std::int64_t f = list[s];
-      const Eigen::Vector3i ijk = grid.coordinates(loc, f);
-      if (ijk[a] == 0 || ijk[a] == grid.cells()[a]) continue;  // a domain face: one cell
-      Eigen::Vector3d c0 = grid.position(loc, ijk), c1 = c0;
-      c0[a] -= half;
-      c1[a] += half;
-      if (const auto hit = m_caster->first_hit(c0, c1))
-        found[omp_get_thread_num()].push_back({f, *hit});
-    }
-    for (const auto& part : found) hits[a].insert(hits[a].end(), part.begin(), part.end());
-    std::sort(hits[a].begin(), hits[a].end(),
-              [](const CellFaceHit& x, const CellFaceHit& y) { return x.face < y.face; });
+    hits[a] = for_each_interior_band_face<CellFaceHit>(
+        band, a, [&](std::int64_t f, const Eigen::Vector3d& x) -> std::optional<CellFaceHit> {
+          Eigen::Vector3d c0 = x, c1 = x;
+          c0[a] -= half;
+          c1[a] += half;
+          if (const auto hit = m_caster->first_hit(c0, c1)) return CellFaceHit{f, *hit};
+          return std::nullopt;
+        });
   }
   m_cell_face_hits = std::move(hits);
   return *m_cell_face_hits;
@@ -130,8 +143,7 @@ const std::array<std::vector<FaceAperture>, 3>& ShellGeometry::face_apertures(
     const geometry::ShellBand& band) const {
   if (m_face_apertures) return *m_face_apertures;
   std::array<std::vector<FaceAperture>, 3> apertures;
-  const grid::UniformGrid& grid = band.grid();
-  const double dx = grid.dx();
+  const double dx = band.grid().dx();
   // The solves treat a cell as all of one side of the shells, the side of its centre: a
   // face passes the part of its square on that side of the nearest shell's plane. One
   // plane per face: where two shells or a fold cut a square, the nearer one counts. (The
@@ -142,40 +154,26 @@ const std::array<std::vector<FaceAperture>, 3>& ShellGeometry::face_apertures(
   const double reach = std::sqrt(0.5) * dx;  // the square's farthest point
   for (int a = 0; a < 3; ++a) {
     if (empty()) break;
-    const grid::Location loc = a == 0   ? grid::Location::FaceX
-                               : a == 1 ? grid::Location::FaceY
-                                        : grid::Location::FaceZ;
     const int t1 = (a + 1) % 3, t2 = (a + 2) % 3;
-    const auto list = band.samples(loc);
     const auto& closed = cell_face_hits(band)[a];
-    const std::int64_t m = static_cast<std::int64_t>(list.size());
-    std::vector<std::vector<FaceAperture>> found(omp_get_max_threads());
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::int64_t s = 0; s < m; ++s) {
-      const std::int64_t f = list[s];
-      const Eigen::Vector3i ijk = grid.coordinates(loc, f);
-      if (ijk[a] == 0 || ijk[a] == grid.cells()[a]) continue;  // a domain face: one cell
-      const auto neumann =
-          std::lower_bound(closed.begin(), closed.end(), f,
-                           [](const CellFaceHit& h, std::int64_t face) { return h.face < face; });
-      if (neumann != closed.end() && neumann->face == f) continue;  // closed (Fig. 5)
-      const Eigen::Vector3d x = grid.position(loc, ijk);
-      const auto contact = nearest(x, reach, x);
-      if (!contact || contact->on_open_edge) continue;  // beyond a hem the plane is not there
-      Eigen::Vector3d normal =
-          m_shells[contact->where.shell]->mesh.scaled_normal(contact->where.triangle);
-      if (!(normal.norm() > 0.0)) continue;
-      normal.normalize();
-      const double offset = normal.dot(x - contact->point) / dx;
-      if (offset < 0.0) normal = -normal;  // towards the centre's side
-      const double fraction = open_square_fraction(normal[t1], normal[t2], std::abs(offset));
-      if (std::abs(fraction - 1.0) > 1e-9)
-        found[omp_get_thread_num()].push_back({f, fraction, contact->where});
-    }
-    for (const auto& part : found)
-      apertures[a].insert(apertures[a].end(), part.begin(), part.end());
-    std::sort(apertures[a].begin(), apertures[a].end(),
-              [](const FaceAperture& x, const FaceAperture& y) { return x.face < y.face; });
+    apertures[a] = for_each_interior_band_face<FaceAperture>(
+        band, a, [&](std::int64_t f, const Eigen::Vector3d& x) -> std::optional<FaceAperture> {
+          const auto neumann = std::lower_bound(
+              closed.begin(), closed.end(), f,
+              [](const CellFaceHit& h, std::int64_t face) { return h.face < face; });
+          if (neumann != closed.end() && neumann->face == f) return std::nullopt;  // Fig. 5
+          const auto contact = nearest(x, reach, x);
+          if (!contact || contact->on_open_edge) return std::nullopt;  // no plane beyond a hem
+          Eigen::Vector3d normal =
+              m_shells[contact->where.shell]->mesh.scaled_normal(contact->where.triangle);
+          if (!(normal.norm() > 0.0)) return std::nullopt;
+          normal.normalize();
+          const double offset = normal.dot(x - contact->point) / dx;
+          if (offset < 0.0) normal = -normal;  // towards the centre's side
+          const double fraction = open_square_fraction(normal[t1], normal[t2], std::abs(offset));
+          if (std::abs(fraction - 1.0) <= 1e-9) return std::nullopt;
+          return FaceAperture{f, fraction, contact->where};
+        });
   }
   m_face_apertures = std::move(apertures);
   return *m_face_apertures;
