@@ -88,6 +88,7 @@ ShellGeometry::ShellGeometry(sdk::ShellSet shells, double epsilon) : m_epsilon(e
     shell->triangles = surface.triangles;
     shell->surface_density = surface.surface_density;
     shell->receives_forces = surface.receives_fluid_forces;
+    shell->moves_as_one = surface.receives_fluid_forces && surface.rigid.has_value();
     shell->set_index = static_cast<int>(m_internal.size()) - 1;
     shell->mesh = geometry::TriangleMesh(shell->positions, *shell->triangles);
     shell->bvh = geometry::TriangleBvh(shell->mesh);
@@ -164,6 +165,11 @@ const std::array<std::vector<FaceAperture>, 3>& ShellGeometry::face_apertures(
           if (neumann != closed.end() && neumann->face == f) return std::nullopt;  // Fig. 5
           const auto contact = nearest(x, reach, x);
           if (!contact || contact->on_open_edge) return std::nullopt;  // no plane beyond a hem
+          // The §5.1 solve moves a rigid two-way body as one through the faces it cuts (its
+          // velocity an unknown of the solve); β u + (1 − β) u_shell next to it would need
+          // that unknown too. With it held at the body's velocity there, a floating boat was
+          // pushed sideways (1.5 m in a second, Fig. 7 preview) and never filled.
+          if (moves_as_one(contact->where.shell)) return std::nullopt;
           Eigen::Vector3d normal =
               m_shells[contact->where.shell]->mesh.scaled_normal(contact->where.triangle);
           if (!(normal.norm() > 0.0)) return std::nullopt;

@@ -113,12 +113,15 @@ class ShellGeometry {
       const geometry::ShellBand& band) const;
   /// The open interior faces of each family whose fraction (FaceAperture) is not 1, in
   /// face order: the plane of the shell point nearest the face's centre (within Δx/√2, not
-  /// on an open edge) cuts its square. Found once per geometry, like cell_face_hits(),
-  /// over the faces `band` samples, which must hold every face within Δx/√2 of a shell.
+  /// on an open edge, not on a two-way rigid body) cuts its square. Found once per geometry, like
+  /// cell_face_hits(), over the faces `band` samples, which must hold every face within Δx/√2 of a
+  /// shell.
   const std::array<std::vector<FaceAperture>, 3>& face_apertures(
       const geometry::ShellBand& band) const;
   /// Whether internal shell `shell` is two-way coupled (ShellSurface::receives_fluid_forces).
   bool receives_forces(int shell) const { return m_shells[shell]->receives_forces; }
+  /// Whether internal shell `shell` is a two-way shell that moves as one rigid body.
+  bool moves_as_one(int shell) const { return m_shells[shell]->moves_as_one; }
   /// Surface density [kg/m^2] of the triangle at a hit.
   double surface_density_at(const geometry::WedgeHit& hit) const;
   /// ShellSet position of internal shell `shell`.
@@ -137,6 +140,7 @@ class ShellGeometry {
     std::shared_ptr<const sdk::Triangles> triangles;
     Eigen::VectorXd surface_density;  ///< per triangle [kg/m^2]
     bool receives_forces = false;
+    bool moves_as_one = false;  ///< two-way and rigid (ShellSurface::rigid)
     int set_index = -1;
     geometry::TriangleMesh mesh;
     geometry::TriangleBvh bvh;
