@@ -112,10 +112,10 @@ class ShellGeometry {
   const std::array<std::vector<CellFaceHit>, 3>& cell_face_hits(
       const geometry::ShellBand& band) const;
   /// The open interior faces of each family whose fraction (FaceAperture) is not 1, in
-  /// face order: the plane of the shell point nearest the face's centre (within Δx/√2, not
-  /// on an open edge, not on a two-way rigid body) cuts its square. Found once per geometry, like
-  /// cell_face_hits(), over the faces `band` samples, which must hold every face within Δx/√2 of a
-  /// shell.
+  /// face order: the plane of the shell point nearest the face's centre (within Δx/√2,
+  /// not on an open edge, not on a two-way rigid body) cuts its square. Found once per
+  /// geometry, like cell_face_hits(), over the faces `band` samples, which must hold every
+  /// face within Δx/√2 of a shell.
   const std::array<std::vector<FaceAperture>, 3>& face_apertures(
       const geometry::ShellBand& band) const;
   /// Whether internal shell `shell` is two-way coupled (ShellSurface::receives_fluid_forces).

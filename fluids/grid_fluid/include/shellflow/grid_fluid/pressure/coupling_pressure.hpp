@@ -29,8 +29,8 @@
 // faces: the body moves as one in the solve (rigid_shell_coupling.hpp), its faces leave
 // the Laplacian and its inverse mass and inertia enter the operator. Steps 3–4 are the same.
 //
-// With water the faces near shells weigh by their fractions, as in the projection
-// (face_apertures.hpp). With water (a FreeSurface, as the projection sees it) only the liquid cells
+// With water (a FreeSurface, as the projection sees it) the faces near shells weigh by
+// their fractions, as in the projection (face_apertures.hpp), and only the liquid cells
 // are unknowns: air cells hold p = 0, a liquid cell's face to an air cell is a Dirichlet
 // conductance (its weight, 1 or β, times 1/θ of the ghost fluid rule; θ = 1 across a
 // shell, where φ of the far side says nothing of this side's surface), and a liquid
