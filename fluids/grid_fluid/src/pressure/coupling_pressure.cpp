@@ -163,7 +163,7 @@ Eigen::VectorXd CouplingPressure::right_hand_side(const MacGrid& mac) const {
 #pragma omp parallel for schedule(static)
   for (std::int64_t cell = 0; cell < cells; ++cell)
     b[cell] = -mac.outward_flux(m_grid.coordinates(Location::Cell, cell));
-  m_apertures.adjust_fluxes(m_grid, mac, b, -1.0);
+  m_apertures.adjust_fluxes(mac, b, -1.0);
   // Shell faces carry the shell's velocity (§5.1), not u*; a rigid body's faces enter
   // through its jumps in solve() (−Kᵀ V*, rigid_shell_coupling.hpp).
   for (const ShellFace& sf : m_shell_faces) {
@@ -620,7 +620,6 @@ CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
       if (set[si].receives_fluid_forces) forces[si].setZero();
     m_body_wrench.assign(m_bodies.size(), BodyVector::Zero());
     m_surface = nullptr;
-    m_apertures.clear();
     return stats;
   }
   Eigen::VectorXd b = right_hand_side(mac);
@@ -634,7 +633,6 @@ CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
   jumps_to_nodes(m_settings.fluid_density * dx / dt, stats);
   forces_on_triangles(set, forces, stats);
   m_surface = nullptr;
-  m_apertures.clear();
   return stats;
 }
 

@@ -6,36 +6,34 @@ using grid::Location;
 
 void FaceApertures::gather(const ShellGeometry& shells, const geometry::ShellBand& band,
                            const std::array<std::vector<std::uint8_t>, 3>& closed) {
+  const grid::UniformGrid& grid = band.grid();
   const auto& apertures = shells.face_apertures(band);
-  m_empty = true;
   for (int a = 0; a < 3; ++a) {
     m_faces[a].clear();
-    for (const FaceAperture& open : apertures[a])
-      if (closed[a][open.face] == 0)
-        m_faces[a].push_back({open.face, open.fraction, shells.velocity_at(open.hit)[a]});
-    m_empty = m_empty && m_faces[a].empty();
+    for (const FaceAperture& open : apertures[a]) {
+      if (closed[a][open.face] != 0) continue;
+      // The + cell has the face's coordinates.
+      Eigen::Vector3i c = grid.coordinates(face_location(a), open.face);
+      const std::int64_t plus = grid.index(Location::Cell, c);
+      c[a] -= 1;
+      m_faces[a].push_back({open.face, plus, grid.index(Location::Cell, c), open.fraction,
+                            shells.velocity_at(open.hit)[a]});
+    }
   }
 }
 
 void FaceApertures::clear() {
   for (auto& list : m_faces) list.clear();
-  m_empty = true;
 }
 
-void FaceApertures::adjust_fluxes(const grid::UniformGrid& grid, const MacGrid& mac,
-                                  Eigen::VectorXd& flux, double sign) const {
-  const Eigen::Vector3i n = grid.cells();
+void FaceApertures::adjust_fluxes(const MacGrid& mac, Eigen::VectorXd& flux, double sign) const {
   for (int a = 0; a < 3; ++a) {
-    // The face is its + cell's min face (outward −u) and its − cell's max face (+u); the
-    // + cell has the face's coordinates.
-    const std::int64_t stride = a == 0 ? 1 : (a == 1 ? n.x() : std::int64_t(n.x()) * n.y());
     const double* u = mac.face_velocity(a).data();
     for (const Face& f : m_faces[a]) {
-      const std::int64_t plus =
-          grid.index(Location::Cell, grid.coordinates(face_location(a), f.face));
+      // The + cell's min face (outward −u), the − cell's max face (+u).
       const double change = sign * (f.fraction - 1.0) * (u[f.face] - f.shell_velocity);
-      flux[plus] -= change;
-      flux[plus - stride] += change;
+      flux[f.plus] -= change;
+      flux[f.minus] += change;
     }
   }
 }

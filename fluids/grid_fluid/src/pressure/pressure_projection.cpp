@@ -214,13 +214,10 @@ void PressureProjection::build_operator() {
     // A liquid–air face near a shell conducts by its fraction.
     for (int a = 0; a < 3; ++a)
       for (const FaceApertures::Face& open : m_apertures.faces(a)) {
-        Eigen::Vector3i c = m_grid.coordinates(face_location(a), open.face);
-        const std::int64_t plus = m_grid.index(Location::Cell, c);
-        c[a] -= 1;
-        const std::int64_t minus = m_grid.index(Location::Cell, c);
-        if (air(plus) == air(minus)) continue;
-        const std::int64_t liquid = air(plus) ? minus : plus;
-        const std::int64_t other = liquid == plus ? minus : plus;
+        if (air(open.plus) == air(open.minus)) continue;
+        const bool plus_liquid = !air(open.plus);
+        const std::int64_t liquid = plus_liquid ? open.plus : open.minus;
+        const std::int64_t other = plus_liquid ? open.minus : open.plus;
         dirichlet[unknown_of(liquid)] += (open.fraction - 1.0) * inverse_theta(liquid, other);
       }
   }
@@ -363,7 +360,6 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < cells; ++i) p[i] = m_scaled[i] * to_pressure;
   m_surface = nullptr;
-  m_apertures.clear();
   return stats;
 }
 
@@ -386,7 +382,7 @@ void PressureProjection::cell_fluxes(const MacGrid& mac, Eigen::VectorXd& flux) 
       for (std::int64_t i = 0; i < nx; ++i)
         out[c + i] = (ux[i + 1] - ux[i]) + (vy[i + nx] - vy[i]) + (wz[i + plane] - wz[i]);
     }
-  m_apertures.adjust_fluxes(m_grid, mac, flux);
+  m_apertures.adjust_fluxes(mac, flux);
   for (int r = 0; r < m_regions.count(); ++r)  // a source sets these cells' divergence
     if (m_regions.sealed[r] != 0) out[m_regions.cells[m_regions.start[r]]] = 0.0;
 }

@@ -24,6 +24,8 @@ class FaceApertures {
  public:
   struct Face {
     std::int64_t face;      ///< flat index in its family
+    std::int64_t plus;      ///< the cell on its + side (it is that cell's min face)
+    std::int64_t minus;     ///< the cell on its − side
     double fraction;        ///< β
     double shell_velocity;  ///< the shells' velocity there along the face's axis
   };
@@ -35,19 +37,16 @@ class FaceApertures {
               const std::array<std::vector<std::uint8_t>, 3>& closed);
   /// None: every face is whole.
   void clear();
-  bool empty() const { return m_empty; }
   const std::vector<Face>& faces(int axis) const { return m_faces[axis]; }
 
-  /// flux[c] (Σ over cell c's faces of u·n, one entry per cell of `grid`) with each face
-  /// here counted as β u + (1 − β) u_shell instead of u; `sign` −1 for −flux.
-  void adjust_fluxes(const grid::UniformGrid& grid, const MacGrid& mac, Eigen::VectorXd& flux,
-                     double sign = 1.0) const;
+  /// flux[c] (Σ over cell c's faces of u·n, one entry per cell) with each face here
+  /// counted as β u + (1 − β) u_shell instead of u; `sign` −1 for −flux.
+  void adjust_fluxes(const MacGrid& mac, Eigen::VectorXd& flux, double sign = 1.0) const;
   /// Scales the weights of family `axis` (the whole grid's face layout) by β.
   void scale_weights(int axis, std::vector<float>& weights) const;
 
  private:
   std::array<std::vector<Face>, 3> m_faces;
-  bool m_empty = true;
 };
 
 }  // namespace shellflow::grid_fluid
