@@ -190,7 +190,9 @@ void CouplingPressure::solve(Eigen::VectorXd& b, double dt, const DomainBoundary
   }
   for (const ShellFace& sf : m_shell_faces)
     if (sf.two_way()) m_laplacian.weights(sf.axis)[sf.face] = sf.body >= 0 ? 0.0 : sf.beta;
-  for (int a = 0; a < 3; ++a) m_apertures.scale_weights(a, m_laplacian.weights(a));
+  for (int a = 0; a < 3; ++a)
+    m_apertures.scale_weights(a, m_grid, Eigen::Vector3i::Zero(), m_laplacian.face_counts(a),
+                              m_laplacian.weights(a));
   if (m_surface != nullptr) {
     add_free_surface(b);
     if (!m_bodies.empty()) drop_sealed_cells(b);

@@ -38,8 +38,16 @@ void FaceApertures::adjust_fluxes(const MacGrid& mac, Eigen::VectorXd& flux, dou
   }
 }
 
-void FaceApertures::scale_weights(int axis, std::vector<float>& weights) const {
-  for (const Face& f : m_faces[axis]) weights[f.face] *= static_cast<float>(f.fraction);
+void FaceApertures::scale_weights(int axis, const grid::UniformGrid& grid,
+                                  const Eigen::Vector3i& box_lo, const Eigen::Vector3i& face_counts,
+                                  std::vector<float>& weights) const {
+  for (const Face& f : m_faces[axis]) {
+    const Eigen::Vector3i c = grid.coordinates(face_location(axis), f.face) - box_lo;
+    if ((c.array() < 0).any() || (c.array() >= face_counts.array()).any()) continue;
+    weights[c.x() +
+            std::int64_t(face_counts.x()) * (c.y() + std::int64_t(face_counts.y()) * c.z())] *=
+        static_cast<float>(f.fraction);
+  }
 }
 
 }  // namespace shellflow::grid_fluid

@@ -180,12 +180,7 @@ void PressureProjection::build_operator() {
           }
           w[local] = weight;
         }
-    for (const FaceApertures::Face& open : m_apertures.faces(a)) {
-      const Eigen::Vector3i c = m_grid.coordinates(face_location(a), open.face) - m_box_lo;
-      if ((c.array() < 0).any() || (c.array() >= faces.array()).any()) continue;
-      w[c.x() + std::int64_t(faces.x()) * (c.y() + std::int64_t(faces.y()) * c.z())] *=
-          static_cast<float>(open.fraction);
-    }
+    m_apertures.scale_weights(a, m_grid, m_box_lo, faces, w);
   }
   const auto unknown_of = [&](std::int64_t cell) {
     const Eigen::Vector3i c = m_grid.coordinates(Location::Cell, cell) - m_box_lo;

@@ -42,8 +42,11 @@ class FaceApertures {
   /// flux[c] (Σ over cell c's faces of u·n, one entry per cell) with each face here
   /// counted as β u + (1 − β) u_shell instead of u; `sign` −1 for −flux.
   void adjust_fluxes(const MacGrid& mac, Eigen::VectorXd& flux, double sign = 1.0) const;
-  /// Scales the weights of family `axis` (the whole grid's face layout) by β.
-  void scale_weights(int axis, std::vector<float>& weights) const;
+  /// Scales the weights of family `axis` by β: `weights` lie over the faces of the box of
+  /// cells of `grid` from `box_lo` (`face_counts` per axis, GridLaplacian::face_counts);
+  /// faces outside the box are left out. The whole grid: box_lo 0, the grid's face counts.
+  void scale_weights(int axis, const grid::UniformGrid& grid, const Eigen::Vector3i& box_lo,
+                     const Eigen::Vector3i& face_counts, std::vector<float>& weights) const;
 
  private:
   std::array<std::vector<Face>, 3> m_faces;
