@@ -718,6 +718,7 @@ void GridFluid::report(sdk::Metrics& out) const {
     out.set("water_volume_outflow", budget.outflow);
     out.set("water_volume_drift",
             volume - m_liquid->initial_volume() - budget.added + budget.outflow);
+    warn_of_volume_drift(volume);
     if (const PhaseDrift* d = m_liquid->phase_drift()) {
       out.set("water_drift_advection", d->advection);
       out.set("water_drift_shells", d->shells);
@@ -777,6 +778,44 @@ void GridFluid::report(sdk::Metrics& out) const {
   out.set("coupling_force_z", c.total_force.z());
   out.set("coupling_triangles_without_jump", static_cast<double>(c.triangles_without_jump));
   m_probes.report(out, m_mac, m_nodes.density(), m_liquid ? &m_liquid->level_set() : nullptr);
+}
+
+void GridFluid::warn_of_volume_drift(double volume) const {
+  // A scene loses or makes water silently otherwise: metrics.csv has the figures, but the
+  // run's log is what a user watches. Levels of |drift| against what the scene holds.
+  static constexpr std::array<double, 4> kDriftWarnings = {0.05, 0.25, 0.5, 0.9};
+  const VolumeBudget& budget = m_liquid->budget();
+  const double held = m_liquid->initial_volume() + budget.added - budget.outflow;
+  if (m_drift_warnings >= static_cast<int>(kDriftWarnings.size()) || !(held > 0.0)) return;
+  const double drift = (volume - held) / held;
+  int level = m_drift_warnings;
+  while (level < static_cast<int>(kDriftWarnings.size()) &&
+         std::abs(drift) >= kDriftWarnings[level])
+    ++level;
+  if (level == m_drift_warnings) return;
+  const bool first = m_drift_warnings == 0;
+  m_drift_warnings = level;
+  std::string where;
+  if (const PhaseDrift* d = m_liquid->phase_drift()) {
+    const std::array<std::pair<double, const char*>, 3> phases = {
+        {{d->advection, "the advection"},
+         {d->shells, "the shells' move"},
+         {d->reinitialization, "the particles' correction and reinitialisation"}}};
+    const auto most = std::max_element(
+        phases.begin(), phases.end(),
+        [](const auto& a, const auto& b) { return std::abs(a.first) < std::abs(b.first); });
+    where = fmt::format("; {:+.3g} m^3 of it in {}", most->first, most->second);
+  }
+  // Why and what to do, the first time only.
+  const char* why =
+      !first ? ""
+             : " Water thinner than a cell against a wall or a shell is lost, and water landing "
+               "on a dry wall of the domain vanishes: README, Known limits, says what keeps more; "
+               "\"volume_by_phase\": true in /fluid/water says which phase drifts.";
+  spdlog::warn(
+      "grid_fluid: the water's volume is {:+.1f} % off what the scene holds at t = {:.4g} s "
+      "({:.4g} m^3 against {:.4g} m^3 from the start, the emitters and the open sides{}).{}",
+      100.0 * drift, m_time, volume, held, where, why);
 }
 
 std::vector<sdk::PlanEntry> GridFluid::plan() const {

@@ -94,6 +94,8 @@ class GridFluid final : public sdk::FluidSolver {
   std::vector<sdk::ParticleView> particles() const override;
   std::optional<std::string> find_nonfinite() const override;
   void report(sdk::Metrics& out) const override;
+  /// Logs once for each level of drift the water's volume passes (report() calls it).
+  void warn_of_volume_drift(double volume) const;
   std::vector<sdk::PlanEntry> plan() const override;
 
   // For tests and benchmarks.
@@ -174,6 +176,8 @@ class GridFluid final : public sdk::FluidSolver {
   double m_shell_speed = 0.0;
   StepStats m_stats;
   bool m_logged_coupling = false;
+  /// Warnings of the water's volume drift given so far (one per level of kDriftWarnings).
+  mutable int m_drift_warnings = 0;
   /// The marker particles gathered for particles() (water, air, escaped water): writers'
   /// copies.
   mutable std::array<ParticleArrays, 3> m_marker_views;
