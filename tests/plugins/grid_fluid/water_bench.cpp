@@ -2,9 +2,9 @@
 // with sources and refill; reinitialisation; the particles, when on; velocity advection
 // with gravity and the transfer to faces; the projection with the faces → nodes transfer;
 // extrapolation), PCG
-// iterations and the share of the grid the solve, the march and the extrapolation work on,
-// at 64^3 and 128^3; and the peak memory of a run per size,
-// each measured in its own process (ru_maxrss only grows):
+// iterations, the particles' count, rate and bytes per particle (their arrays' capacities), and the
+// share of the grid the solve, the march and the extrapolation work on, at 64^3 and 128^3; and the
+// peak memory of a run per size, each measured in its own process (ru_maxrss only grows):
 //   build-*/bin/bench_water --benchmark_filter=DamBreak
 //   build-*/bin/bench_water --benchmark_filter=PeakMemory
 //   build-*/bin/bench_water --peak-memory=128   (one measurement)
@@ -49,7 +49,7 @@ std::unique_ptr<grid_fluid::GridFluid> dam_break(int resolution, int particles_p
 struct PhaseTimes {
   double advect = 0.0, project = 0.0;                             // the two solver calls
   double level_set = 0.0, reinitialize = 0.0, extrapolate = 0.0;  // the liquid's share
-  double particles = 0.0, particle_count = 0.0;
+  double particles = 0.0, particle_count = 0.0, particle_bytes = 0.0;
   double iterations = 0.0, solve_cells = 0.0, marched = 0.0, extrapolated = 0.0;
   int steps = 0;
 };
@@ -71,6 +71,7 @@ void step(grid_fluid::GridFluid& fluid, double& t, PhaseTimes& times) {
   times.extrapolate += w.t_extrapolate;
   times.particles += w.particles.seconds;
   times.particle_count += static_cast<double>(fluid.liquid()->particles().size());
+  times.particle_bytes += static_cast<double>(fluid.liquid()->particles().particle_bytes());
   times.iterations += p.iterations;
   times.solve_cells += static_cast<double>(p.solve_cells);
   times.marched += static_cast<double>(w.reinitialization.marched_nodes);
@@ -97,8 +98,10 @@ void BM_DamBreak(benchmark::State& state) {
       (times.advect - times.level_set - times.reinitialize - times.particles) / steps;
   state.counters["particles_s"] = times.particles / steps;
   state.counters["particles"] = times.particle_count / steps;
-  if (times.particles > 0.0)
+  if (times.particles > 0.0) {
     state.counters["particles_per_s"] = times.particle_count / times.particles;
+    state.counters["bytes_per_particle"] = times.particle_bytes / times.particle_count;
+  }
   state.counters["projection_s"] = (times.project - times.extrapolate) / steps;
   state.counters["extrapolate_s"] = times.extrapolate / steps;
   state.counters["pcg_iterations"] = times.iterations / steps;

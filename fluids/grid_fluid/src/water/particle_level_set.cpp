@@ -143,6 +143,14 @@ std::int64_t ParticleLevelSet::cell_of(std::int64_t i) const {
   return m_grid.index(Location::Cell, c);
 }
 
+std::size_t ParticleLevelSet::particle_bytes() const {
+  std::size_t bytes = m_sign.capacity() * sizeof(std::int8_t);
+  for (const std::vector<double>* a :
+       {&m_x, &m_y, &m_z, &m_radius, &m_collision, &m_x0, &m_y0, &m_z0, &m_u, &m_v, &m_w})
+    bytes += a->capacity() * sizeof(double);
+  return bytes;
+}
+
 void ParticleLevelSet::compact(const std::vector<std::uint8_t>& keep) {
   const bool paths = m_x0.size() == m_x.size();  // start positions kept in step with them
   const bool velocities = m_u.size() == m_x.size();

@@ -102,6 +102,9 @@ class ParticleLevelSet {
 
   bool enabled() const { return m_per_cell > 0; }
   std::int64_t size() const { return static_cast<std::int64_t>(m_x.size()); }
+  /// Bytes the marker particles' arrays hold (their capacities), spray and the per-node
+  /// correction scratch left out.
+  std::size_t particle_bytes() const;
   const ParticleStats& stats() const { return m_stats; }
   /// Particle i's position, sign (−1 water, +1 air) and radius.
   Eigen::Vector3d position(std::int64_t i) const { return {m_x[i], m_y[i], m_z[i]}; }
