@@ -94,8 +94,6 @@ class GridFluid final : public sdk::FluidSolver {
   std::vector<sdk::ParticleView> particles() const override;
   std::optional<std::string> find_nonfinite() const override;
   void report(sdk::Metrics& out) const override;
-  /// Logs once for each level of drift the water's volume passes (report() calls it).
-  void warn_of_volume_drift(double volume) const;
   std::vector<sdk::PlanEntry> plan() const override;
 
   // For tests and benchmarks.
@@ -120,6 +118,8 @@ class GridFluid final : public sdk::FluidSolver {
   Liquid* liquid() { return m_liquid.get(); }
 
  private:
+  /// Logs once for each level of drift the water's volume passes (report() calls it).
+  void warn_of_volume_drift(double volume) const;
   /// Makes `cache` hold `shells` (rebuilds unless the positions match); true when rebuilt.
   bool ensure_geometry(std::unique_ptr<ShellGeometry>& cache, sdk::ShellSet shells) const;
   static std::vector<sdk::Positions> velocities_of(sdk::ShellSet shells);
