@@ -5,15 +5,15 @@
 
 #include <gmock/gmock.h>
 #include <gtest/gtest.h>
-#include <spdlog/sinks/ringbuffer_sink.h>
-#include <spdlog/spdlog.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <string>
 
+#include "logged_messages.hpp"
 #include "shellflow/runtime/run_driver.hpp"
 #include "shellflow/runtime/scene.hpp"
 
@@ -42,12 +42,10 @@ class MeshCheckScene : public ::testing::Test {
              "_" + std::to_string(::getpid()));
     std::filesystem::create_directories(m_dir);
     // Warnings go through spdlog's default logger, which plugins share with the runtime.
-    m_log = std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(64);
-    spdlog::default_logger()->sinks().push_back(m_log);
+    m_log.emplace();
   }
   void TearDown() override {
-    auto& sinks = spdlog::default_logger()->sinks();
-    sinks.erase(std::remove(sinks.begin(), sinks.end(), m_log), sinks.end());
+    m_log.reset();
     std::filesystem::remove_all(m_dir);
   }
 
@@ -75,14 +73,14 @@ class MeshCheckScene : public ::testing::Test {
   /// Every message logged since SetUp, one per line.
   std::string log() const {
     std::string out;
-    for (const auto& line : m_log->last_formatted()) out += line;
+    for (const auto& line : m_log->lines()) out += line;
     return out;
   }
   std::filesystem::path scene_file() const { return m_dir / "scene.json"; }
   std::filesystem::path obj_file() const { return m_dir / "mesh.obj"; }
 
   std::filesystem::path m_dir;
-  std::shared_ptr<spdlog::sinks::ringbuffer_sink_mt> m_log;
+  std::optional<LoggedMessages> m_log;
 };
 
 }  // namespace shellflow::testing

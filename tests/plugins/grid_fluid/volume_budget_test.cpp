@@ -3,19 +3,17 @@
 // error in scenes whose water is not meant to stay what it was.
 
 #include <gtest/gtest.h>
-#include <spdlog/sinks/ringbuffer_sink.h>
-#include <spdlog/spdlog.h>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstdio>
 #include <map>
-#include <memory>
 #include <numbers>
 #include <string>
 #include <vector>
 
+#include "../logged_messages.hpp"
 #include "grid_fluid_test_support.hpp"
 #include "shellflow/grid_fluid/water/volume_budget.hpp"
 #include "shellflow/sdk/state_buffer.hpp"
@@ -243,27 +241,13 @@ TEST(VolumeBudget, ThePhasesDriftsAddUpToTheDrift) {
     EXPECT_EQ(key.find("water_drift_"), std::string::npos);
 }
 
-/// The run's warnings (spdlog's default logger, which the plugin shares with the runtime).
-class LoggedWarnings {
- public:
-  LoggedWarnings() : m_sink(std::make_shared<spdlog::sinks::ringbuffer_sink_mt>(64)) {
-    m_sink->set_level(spdlog::level::warn);
-    spdlog::default_logger()->sinks().push_back(m_sink);
-  }
-  ~LoggedWarnings() {
-    auto& sinks = spdlog::default_logger()->sinks();
-    sinks.erase(std::remove(sinks.begin(), sinks.end(), m_sink), sinks.end());
-  }
-  std::vector<std::string> drift() const {
-    std::vector<std::string> out;
-    for (const auto& line : m_sink->last_formatted())
-      if (line.find("volume is") != std::string::npos) out.push_back(line);
-    return out;
-  }
-
- private:
-  std::shared_ptr<spdlog::sinks::ringbuffer_sink_mt> m_sink;
-};
+/// The drift warnings among `log`'s lines.
+std::vector<std::string> drift_warnings(const testing::LoggedMessages& log) {
+  std::vector<std::string> out;
+  for (const std::string& line : log.lines())
+    if (line.find("volume is") != std::string::npos) out.push_back(line);
+  return out;
+}
 
 /// Steps `fluid` for `duration` as the runtime does, reporting after each step; returns
 /// the largest |water_volume_drift| / (V0 + added − outflow) it reported.
@@ -288,14 +272,14 @@ TEST(VolumeBudget, LostWaterIsWarnedOfAsItPassesEachLevel) {
   // A drop of water 0.9 of a cell in radius falling in a tank: the level set smooths a feature
   // that small away within a few steps (the known loss of a level set alone), and the log,
   // which a user watches, says so as the loss passes 5, 25, 50 and 90 % of the water.
-  const LoggedWarnings log;
+  const testing::LoggedMessages log(spdlog::level::warn);
   const double dx = 1.0 / 16;
   auto fluid = test::make_fluid(
       {{"resolution", 16},
        {"water",
         {{"initial", {{{"type", "sphere"}, {"center", {0.5, 0.6, 0.5}}, {"radius", 0.9 * dx}}}}}}});
   const double largest = run_reporting(*fluid, 0.6);
-  const std::vector<std::string> warned = log.drift();
+  const std::vector<std::string> warned = drift_warnings(log);
   std::printf("[  figure  ] a drop 0.9 of a cell in radius: largest drift %.1f %%, %zu warnings\n",
               100.0 * largest, warned.size());
   ASSERT_GE(largest, 0.05) << "the drop did not lose enough to test the warning";
@@ -320,12 +304,12 @@ TEST(VolumeBudget, LostWaterIsWarnedOfAsItPassesEachLevel) {
 
 TEST(VolumeBudget, AStillPoolIsNotWarnedOf) {
   // Water at rest keeps its volume to the pressure solve's tolerance: nothing to warn of.
-  const LoggedWarnings log;
+  const testing::LoggedMessages log(spdlog::level::warn);
   auto fluid = test::make_fluid(tank(
       {{"initial", {{{"type", "box"}, {"min", {-1.0, -1.0, -1.0}}, {"max", {2.0, 0.4, 2.0}}}}}}));
   const double largest = run_reporting(*fluid, 0.2);
   EXPECT_LT(largest, 1e-6);
-  EXPECT_TRUE(log.drift().empty());
+  EXPECT_TRUE(drift_warnings(log).empty());
 }
 
 }  // namespace
