@@ -716,9 +716,9 @@ void GridFluid::report(sdk::Metrics& out) const {
     const VolumeBudget& budget = m_liquid->budget();
     out.set("water_volume_added", budget.added);
     out.set("water_volume_outflow", budget.outflow);
-    out.set("water_volume_drift",
-            volume - m_liquid->initial_volume() - budget.added + budget.outflow);
-    warn_of_volume_drift(volume);
+    const double held = m_liquid->initial_volume() + budget.added - budget.outflow;
+    out.set("water_volume_drift", volume - held);
+    warn_of_volume_drift(volume, held);
     if (const PhaseDrift* d = m_liquid->phase_drift()) {
       out.set("water_drift_advection", d->advection);
       out.set("water_drift_shells", d->shells);
@@ -780,12 +780,10 @@ void GridFluid::report(sdk::Metrics& out) const {
   m_probes.report(out, m_mac, m_nodes.density(), m_liquid ? &m_liquid->level_set() : nullptr);
 }
 
-void GridFluid::warn_of_volume_drift(double volume) const {
+void GridFluid::warn_of_volume_drift(double volume, double held) const {
   // A scene loses or makes water silently otherwise: metrics.csv has the figures, but the
   // run's log is what a user watches. Levels of |drift| against what the scene holds.
   static constexpr std::array<double, 4> kDriftWarnings = {0.05, 0.25, 0.5, 0.9};
-  const VolumeBudget& budget = m_liquid->budget();
-  const double held = m_liquid->initial_volume() + budget.added - budget.outflow;
   if (m_drift_warnings >= static_cast<int>(kDriftWarnings.size()) || !(held > 0.0)) return;
   const double drift = (volume - held) / held;
   int level = m_drift_warnings;

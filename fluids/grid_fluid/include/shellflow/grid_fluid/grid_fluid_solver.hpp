@@ -118,8 +118,9 @@ class GridFluid final : public sdk::FluidSolver {
   Liquid* liquid() { return m_liquid.get(); }
 
  private:
-  /// Logs once for each level of drift the water's volume passes (report() calls it).
-  void warn_of_volume_drift(double volume) const;
+  /// Logs once for each level of drift the water's `volume` passes against what the scene
+  /// holds, `held` (V0 + added − outflow; report() calls it).
+  void warn_of_volume_drift(double volume, double held) const;
   /// Makes `cache` hold `shells` (rebuilds unless the positions match); true when rebuilt.
   bool ensure_geometry(std::unique_ptr<ShellGeometry>& cache, sdk::ShellSet shells) const;
   static std::vector<sdk::Positions> velocities_of(sdk::ShellSet shells);
