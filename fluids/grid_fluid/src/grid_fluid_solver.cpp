@@ -305,13 +305,11 @@ void GridFluid::start(double dt, sdk::ShellSet shells,
   // §6's loop projects each step against the shells' next motion; before the first step
   // nothing had, and water at rest beside a shell that already moves (a shaken cup, a cloth
   // sagging under a pool) stayed put for a step while the shell moved on: the gap was
-  // refilled from the water's side (§3), water made or taken (a third of a cell of a layer
-  // on a shelf moving at 0.3 m/s; a pool on a cloth pinned at its corners: +30 % of its
-  // water in the first step, +8 % now). The projection gives it the motion's pressure
-  // impulse: a one-way shell's whole first-step velocity; a two-way shell's only what it
-  // gains over the step from its own forces, since the fluid's share of the velocity it
-  // starts with (its added mass, §5.1) is the coupling's to settle and here the shell could
-  // not pay for it (a box thrown through still air made 14 % of its energy out of nothing).
+  // refilled from the water's side (§3), water made or taken. The projection gives it the
+  // motion's pressure impulse: a one-way shell's whole first-step velocity; a two-way
+  // shell's only what it gains over the step from its own forces, since the fluid's share
+  // of the velocity it starts with (its added mass, §5.1) is the coupling's to settle and
+  // here the shell could not pay for it (energy out of nothing).
   // Nothing to do where nothing would move.
   if (m_prescribed || shells.empty()) return;
   std::vector<sdk::Positions> impulse(shells.size());

@@ -128,8 +128,8 @@ void CouplingPressure::assign_rigid_face_areas(sdk::ShellSet set) {
     return;
   }
   // Water: the hydrostatic load is what floats a hull, and it is exact only when each face
-  // stands for the pieces of shell it samples (Archimedes to 0.001 Δx, the righting moment
-  // at any heel; rigid_face_areas.hpp).
+  // stands for the pieces of shell it samples (Archimedes, the righting moment at any heel;
+  // rigid_face_areas.hpp).
   // Each body's cuts, in one pass over the faces.
   std::vector<std::vector<size_t>> faces(m_bodies.size());
   std::vector<std::vector<RigidFaceCut>> cuts(m_bodies.size());
@@ -425,8 +425,7 @@ void CouplingPressure::jumps_to_nodes(double to_pressure, CouplingStats& stats) 
     if (m_surface != nullptr) {
       // Water with air across the shell pushes it and never pulls: the model has no
       // adhesion (§8), and p < 0 against air is the lagged scheme's suction when a light
-      // shell outruns the water, which pulled a cloth curtain back into a jet harder every
-      // step until it blew up (Fig. 1 at 48 cells: 12 kN into a 4 m/s jet's 3 kN).
+      // shell outruns the water, which pulled a cloth curtain back into a jet until it blew up.
       const auto [minus, plus] = cells_of(sf);
       const bool plus_air = air(plus), minus_air = air(minus);
       if (minus_air && !plus_air) jump = std::max(jump, 0.0);
@@ -616,8 +615,7 @@ CouplingStats CouplingPressure::compute(const MacGrid& mac, double dt,
   if (surface != nullptr) m_apertures.gather(shells, band, m_closed);
   if (surface != nullptr && !water_at_two_way_faces()) {
     // Skip the solve: with air (p = 0) on both sides of every two-way face, every jump is
-    // zero, and so is every force (a curtain before the jet reaches it: 45 % of a
-    // paper-size step).
+    // zero, and so is every force (a curtain before the jet reaches it).
     for (size_t si = 0; si < set.size(); ++si)
       if (set[si].receives_fluid_forces) forces[si].setZero();
     m_body_wrench.assign(m_bodies.size(), BodyVector::Zero());

@@ -75,8 +75,7 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
         }
         // A neighbour across the surface and next to a shell holds its |φ| (below), which
         // may be its distance to the shell rather than to the surface: it enters the slope
-        // only where nothing else does. (Left out on this side too, it took more of the
-        // film on the cloth funnel's cloth: −78 % against −67 % at 4 s.)
+        // only where nothing else does (left out altogether, more of a film on cloth went).
         if (m_hidden[j] != 0 && (phi[j] <= 0.0) != water) {
           next_to_shell = side == 0 ? p - phi[j] : phi[j] - p;
           continue;
@@ -93,12 +92,9 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
       }
     }
     // |φ|/|∇φ|: the distance to the zero of φ's linearisation, no farther than the nearest
-    // crossing (a thin sheet's φ has no gradient across it). Central differences of a
-    // signed distance whose surface curves with radius ρ err by up to 5% at ρ = 2.5Δx (8%
-    // at 2Δx, 1.3% at 5Δx), low, and more inside a convex surface than outside it: divided
-    // by every step, they pushed the surface out (a sphere turning rigidly at 50^3 grew by
-    // 29% in a revolution under MacCormack advection). So |∇φ| within 5% of 1 counts as 1
-    // and larger departures only beyond that.
+    // crossing (a thin sheet's φ has no gradient across it). Central differences read |∇φ|
+    // low where the surface curves, and divided by every step they pushed the surface out:
+    // so |∇φ| within kGradientSlack of 1 counts as 1, and larger departures only beyond it.
     double dist = kInf;
     if (found) {
       double gradient_squared = 0.0;

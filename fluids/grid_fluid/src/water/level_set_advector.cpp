@@ -100,14 +100,10 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
           }
           // §4.1 clipped ray, then one secondary ray per cell node (§4.4.1). A ray the
           // shell cuts short slides along it instead: the node velocities next to a shell
-          // average faces it closes per axis, and their normal part relative to the shell
-          // is not the water's (a film sliding down a plate at up to 0.96 m/s: −0.31 to
-          // +0.18 m/s off it). Stopped at the shell, such a node read the constant
-          // continuation there, the film's dry nodes, and lost the film at every step of
-          // the plate's staircase. Where even the slid path is blocked (a fold, a corner),
-          // the node takes what lies at the shell, continued constantly: continued
-          // linearly, a field flowing off a shell steepened its own slope step after step
-          // and made water behind it.
+          // average faces it closes per axis, so their normal part is not the water's, and
+          // a ray stopped at the shell read the film's dry nodes. Where even the slid path
+          // is blocked (a fold, a corner), the node takes what lies at the shell, continued
+          // constantly: continued linearly, a field flowing off a shell makes water behind it.
           Eigen::Vector3d base = departure;
           bool linear = true;
           if (!shells.visible(x, departure, eps_prime)) {
@@ -257,8 +253,7 @@ unsigned LevelSetAdvector::seen_corner_values(std::span<const double> phi, const
         }
     // The wetter of the two. Constant continuation erases a film on the shell; linear
     // continuation dries water against a moving wall, whose nodes fast marching holds at
-    // a small |φ| (water ending at the wall): alone, it cost a poured goblet 2.5 % of its
-    // water (paper/water_goblet_pour_preview; +0.6 % with the wetter reading).
+    // a small |φ| (water ending at the wall).
     ghost[c] = std::min(sum / terms, continued);
   }
   for (int c = 0; c < 8; ++c)

@@ -136,13 +136,12 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
 void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry::ShellBand& band) {
   // The shapes' distances see no shell: a water node next to one may hold its distance to a
   // face of its shape that lies on the shell (a box of water on a shelf, a cup's water by
-  // its wall), which is no surface. Fast marching holds such a node's |φ| (§4.4.1): a layer
-  // a cell or two thick then read short, and lost that much each time it moved by a cell,
-  // and the nodes held by a cup's wall seeded the march with their distance to it (still
-  // water stirred at 0.4 m/s). Such a node (its nearest shell point as far as its face, to a
-  // tenth of a cell: a gap the grid cannot tell from none) is marched again from the
-  // surface it sees. A shell that only meets the shape's surface (a plate piercing a pool)
-  // is nearer than the surface to the nodes about it.
+  // its wall), which is no surface. Fast marching holds such a node's |φ| (§4.4.1): a thin
+  // layer then reads short, and a cup's wall seeds the march with its distance (still water
+  // stirs). Such a node (its nearest shell point as far as its face, to a tenth of a cell:
+  // a gap the grid cannot tell from none) is marched again from the surface it sees. A
+  // shell that only meets the shape's surface (a plate piercing a pool) is nearer than the
+  // surface to the nodes about it.
   const grid::UniformGrid& grid = m_level_set.grid();
   const double dx = grid.dx(), tolerance = 0.1 * dx, deep = m_level_set.band();
   const Eigen::Vector3i n = grid.counts(Location::Node);
@@ -307,11 +306,10 @@ void Liquid::carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFi
   // side of the shell then: back along the shell by its own (refilled) velocity, and
   // across it by its nearest shell point's move over the step, which the water next to
   // the shell keeps up with, or by the water's own move where that lags. A film on a
-  // shell thinner than a cell rides along; the average of the neighbours, the film's dry
-  // nodes, erased it. (The shell's whole move, along it too, held the water's edge where
-  // it was on a wall moving away from the water, which falls there: the shaken cup made
-  // 11 % of its water in 5 s.) A node with no such point (none near, beyond an open edge,
-  // another topology) or nothing visible there is refilled with the others below.
+  // shell thinner than a cell rides along (the neighbours' average, its dry nodes, erased
+  // it); the shell's move along itself is left out, as it held the water's edge on a wall
+  // moving away. A node with no such point (none near, beyond an open edge, another
+  // topology) or nothing visible there is refilled with the others below.
   const grid::UniformGrid& grid = m_level_set.grid();
   const double reach = 3.0 * grid.dx();
   const std::span<const double> phi_n = m_scratch;  // advect() left φ^n there
@@ -394,10 +392,8 @@ const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::
     // in they made the first cell of water on a shell air, p = 0: a drain (§4.3). Pairs of
     // opposite corners, both seen, come first: each pair's mean is exact at the centre for
     // a linear φ, so a still surface cut by a shell keeps its height; with no such pair,
-    // the mean of the corners seen. (The advection's linear continuation across the shell
-    // was tried here too: the shaken cup of verify/water_sloshing_cup then drained, −24%
-    // in 3 s against −5%, since water nodes held against a moving wall keep a small |φ|,
-    // which that continuation reads as the water ending at the wall.)
+    // the mean of the corners seen. Not the advection's linear continuation: water nodes
+    // held against a moving wall keep a small |φ|, which it reads as the water ending there.
     const grid::UniformGrid& grid = m_level_set.grid();
     const auto& phi = m_level_set.phi();
     const auto list = band->samples(Location::Cell);
@@ -478,10 +474,8 @@ double Liquid::volume(const ShellGeometry* shells, const geometry::ShellBand* ba
     // The plane of the shell point nearest the centre parts the cell where it parts the
     // corners as the rays do. Where it does not, a corner neither side sees (a third side:
     // a cup's wall above its bottom; a corner on the shell) or one on the wrong side of the
-    // plane (a corner of the cup's polygon), the cell's water is sampled: read by the plane
-    // of whichever shell was nearer, a ring of cells about a cup's bottom changed by half a
-    // cell each as that switched between its wall and its bottom (water standing in a cup,
-    // read at eight places against the grid: −3.1 … −0.2 % off; now −0.1 … +0.9 %).
+    // plane (a corner of the cup's polygon), the cell's water is sampled: the plane of the
+    // nearer shell switches between a cup's wall and its bottom, and the cells there jumped.
     bool parted = (near_seen | far_seen) == 0xffu;
     for (int k = 0; k < 8; ++k) {
       side[k] = contact->normal.dot(grid.position(Location::Node, st.corner(grid, k)) -

@@ -433,9 +433,8 @@ void ParticleLevelSet::advect(const NodeFields& velocity, double dt, const Shell
 void ParticleLevelSet::keep_off_walls(const Eigen::Vector3d& from, Eigen::Vector3d& to,
                                       double collision) const {
   // A wall node's velocity has no normal part: a water particle that reached a wall's plane
-  // stayed there for good and held a film of water on the wall (a thin tank's splash coated
-  // its walls and ceiling: +73 % of water in 2 s). Kept its collision distance off, or no
-  // nearer than it was, as PhysBAM's Adjust_Particle_For_Domain_Boundaries does.
+  // stayed there for good and held a film of water on the wall. Kept its collision distance
+  // off, or no nearer than it was, as PhysBAM's Adjust_Particle_For_Domain_Boundaries does.
   const Eigen::Vector3d lower = m_grid.origin(), upper = m_grid.upper();
   for (int a = 0; a < 3; ++a) {
     if (m_walls[2 * a]) {
@@ -643,11 +642,10 @@ void ParticleLevelSet::adjust(const LevelSet& level_set, const ShellGeometry& sh
                                                   : m_grid.dx())) {
       // Escaped further than the grid can hold. An air particle is dropped beyond 1.5
       // radii: the pressure keeps no bubble, so left in the water it carved the same pocket
-      // every step that the flow closed again (a thin tank's dam break lost 17 % in 2 s;
-      // PhysBAM's water examples drop them too: removed positive particles unused). A water
-      // particle goes as spray beyond a cell: a correction leaves φ at it near 0.6Δx − r,
-      // and taken at 1.5 radii as well, the water of sharp features went with them
-      // (Zalesak's sphere at 50³: 28 % lost against 1.4 %).
+      // every step that the flow closed again (PhysBAM's water examples drop them too:
+      // removed positive particles unused). A water particle goes as spray beyond a cell: a
+      // correction leaves φ at it near 0.6Δx − r, and taken at 1.5 radii as well, the water
+      // of sharp features went with them.
       keep[i] = 0;
       removed += m_sign[i] < 0 ? 1 : 0;
       to_spray[i] = m_sign[i] < 0 ? 1 : 0;

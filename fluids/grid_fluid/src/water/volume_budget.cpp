@@ -32,7 +32,7 @@ double triangle_water_fraction(double a, double b, double c) {
 /// four nodes; upstream beyond the domain, its last plane of nodes, as the advection reads
 /// it), the face's wet fraction integrated over that depth. Swept so, not as a rate: a
 /// surface passes a face within a step, and a rate at either end of the step then counts
-/// it half (a slab leaving through an open floor was short by 8%).
+/// it half.
 double swept_across_face(const LevelSet& level_set, const NodeFields& velocity, int axis,
                          const Eigen::Vector3i& face, double outward, double dt) {
   const grid::UniformGrid& grid = level_set.grid();

@@ -4,9 +4,8 @@
 // A face f of axis a that the shell cuts (between two cell centres, Fig. 5) reads the
 // pressure jump there; in the solve it carries the body's push on the fluid, and the body
 // takes the jump's force. With a whole face per cut and the force along e_a alone (a
-// staircase), a 0.4 m square bottom at 32³ got 13 faces, 2 % too much area, their
-// centroid 2.6 mm off; and a heeled box lost the vertical part of the water's push on its
-// walls, a couple that turned its righting moment the wrong way (−0.93 N m at 3°).
+// staircase), the area and its centroid are off, and a heeled box loses the vertical part
+// of the water's push on its walls, a couple that turns its righting moment the wrong way.
 //
 // Here the shell's triangles are cut into the grid's cells and each piece goes to one face:
 // of the axis its normal is closest to, the cut of its own column across that axis nearest

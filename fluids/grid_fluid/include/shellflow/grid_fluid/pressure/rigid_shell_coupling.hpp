@@ -4,11 +4,10 @@
 // §5.1 gives every face a shell cuts the density σ/Δx of the shell there, so each face
 // yields to the fluid on its own. For cloth that is the model; for a rigid hull it is not:
 // the walls of an open boat, each yielding alone, let the water drain into the hull in the
-// solve, and the boat sinks (with σ/Δx, the lift on a floating box is a fifth of its weight
-// at 32³). A rigid shell's faces instead all move with the body's one velocity V: the face
-// f of axis a moves at J_f V, J_f = [e_a; r_f × e_a]ᵀ (r_f from the centre of mass; in
-// water the pieces of shell the face stands for, rigid_face_areas.hpp), and the body takes
-// the impulse of the jumps, Δx² Δt Σ_f −[p]_f J_fᵀ. With q = p Δt/(ρ Δx)
+// solve, and the boat sinks. A rigid shell's faces instead all move with the body's one
+// velocity V: the face f of axis a moves at J_f V, J_f = [e_a; r_f × e_a]ᵀ (r_f from the
+// centre of mass; in water the pieces of shell the face stands for, rigid_face_areas.hpp),
+// and the body takes the impulse of the jumps, Δx² Δt Σ_f −[p]_f J_fᵀ. With q = p Δt/(ρ Δx)
 // and K q = −Σ_f J_fᵀ [q]_f, the solve for q becomes
 //     (L + ρ Δx³ Σ_bodies Kᵀ 𝓜⁻¹ K) q = b,
 // L the fluid faces' Laplacian (a rigid face has weight 0 in it), 𝓜⁻¹ the body's inverse

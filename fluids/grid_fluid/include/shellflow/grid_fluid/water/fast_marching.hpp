@@ -8,14 +8,12 @@
 //    influence across the shell). Each one's distance is |φ|/|∇φ| (central differences
 //    over its visible neighbours, one-sided where only one is visible or the other lies
 //    across the surface and is held, below: a held node's |φ| may be its distance to the
-//    shell, and a layer a cell thick on a shelf read it as the surface's slope and sank a
-//    little every step, a fifth of it gone in 0.5 s), no more than the nearest crossing
-//    along an axis (linear interpolation, φ_i / (φ_i − φ_j) Δx, towards visible neighbours
-//    only). The paper's 1 / sqrt(Σ_axes 1/d_a^2), the plane through
-//    the axis crossings, understates |φ| inside a convex surface and overstates it outside:
-//    reinitialised every step, water shrank by 0.4% a step in a 3D dam break. A |∇φ|
-//    within 5% of 1 counts as 1: that much is the central differences' own error on a
-//    surface curving with radius 2.5Δx, and dividing by it every step grew water;
+//    shell, not a slope of the surface), no more than the nearest crossing along an axis
+//    (linear interpolation, φ_i / (φ_i − φ_j) Δx, towards visible neighbours only). The
+//    paper's 1 / sqrt(Σ_axes 1/d_a^2), the plane through the axis crossings, understates
+//    |φ| inside a convex surface and overstates it outside: reinitialised every step, water
+//    shrank. A |∇φ| within 5% of 1 counts as 1: that much is the central differences' own
+//    error on a surface curving with radius 2.5Δx, and dividing by it every step grew water;
 //  - a node with a neighbour it cannot see is *held*: its distance is at most its own |φ|
 //    (as an interface node, the smaller of the two; otherwise a tentative value the march
 //    may still lower). The surface it is near may lie behind the shell's edge, where the
@@ -23,10 +21,8 @@
 //    §4.4.1 instead puts every φ <= 0 node with a hidden neighbour on the interface at
 //    min(distance to the shell, |φ|) in the hidden directions ("so that water does not
 //    stick to objects"). That is not a fixed point of still water: where a shell meets
-//    the surface it shrinks |φ| by up to a cell every step. Measured at 16^3: a still
-//    pool about a tilted plate reached 0.26 m/s and sank 0.22Δx in 2 s; water against a
-//    thin dam sank 0.9Δx in 2 s. Holding, both stay still (1e-8 m/s) and level. Water
-//    cannot stick either: a held node's |φ| never grows, and advection empties it;
+//    the surface it shrinks |φ| by up to a cell every step. Water cannot stick when held
+//    either: a held node's |φ| never grows, and advection empties it;
 //  - the march accepts nodes in increasing |φ|, each from its accepted visible neighbours
 //    of the same sign (the upwind quadratic of the eikonal equation |∇φ| = 1; second order
 //    along an axis where the next node upwind is accepted too and not held, an interface

@@ -28,18 +28,14 @@ class LevelSet {
   /// φ at every cell centre (the mean of its 8 nodes: trilinear at the centre). With
   /// `walls` (the sides of the domain box that are walls, `2 * axis + max_side`), a node
   /// on a wall counts as no drier than the linear extrapolation of the two nodes inside
-  /// it along the wall's normal (each normal, at an edge or corner). A wall node's
-  /// velocity has no normal component and the wall's edge with the floor has none at
-  /// all, so water arriving at a wall or running up it leaves the wall nodes stale and
-  /// dry; averaged in, they kept the wall's cells air (p = 0) while the faces carried
-  /// water into them (verify/water_dam_break had 77% of its water after 3 s; 90% now). Exact for a linear φ, so still and tilted surfaces and thin layers on the
-  /// floor keep their cells; φ itself is not changed, so no water is made.
+  /// it along the wall's normal (each normal, at an edge or corner); φ is not changed.
+  /// Why: wall nodes have no normal velocity and stay stale and dry as water arrives;
+  /// averaged in, they kept the wall's cells air while the faces carried water into them.
   void cell_values(std::vector<double>& out, const std::array<bool, 6>& walls = {}) const;
   /// Water volume [m^3]: the exact volume where the piecewise-linear interpolant of φ
   /// is below zero, each cell cut into six tetrahedra (marching tetrahedra's surface,
   /// to O(Δx²) the liquid mesh's). Sharp, so a film or a drop thinner than a cell counts
-  /// for what it holds: a smeared Heaviside over-counts such water by up to its width
-  /// (a 64³ dam break read +3.8% where its mesh held +0.7%).
+  /// for what it holds: a smeared Heaviside over-counts such water by up to its width.
   double volume() const;
   /// The same over the cells of `cells` (possibly empty: 0).
   double volume(const grid::IndexBox& cells) const;

@@ -24,19 +24,14 @@
 // Nodes outside the shell band take the plain trilinear path.
 // Each node's ray follows the velocity at its midpoint (Trace::Midpoint, second order in
 // time: the velocity at x − u dt/2, from the corners seen from there next to a shell) rather
-// than the node's own (Trace::Euler, the paper's). The Euler ray's map x → x − u dt has
-// Jacobian 1 + dt² det(∇u) + ...; in irrotational flow det(∇u) < 0, so the traced water
-// region grows by O(dt |∇u|²) a second: a standing wave one cell high at 32 cells per
-// wavelength gained 1.8e-2 of its volume a second (1.6e-3 at the midpoint), and water
-// sloshing in a tank made +3.5 % in 4 s (−0.2 %).
+// than the node's own (Trace::Euler, the paper's): in irrotational flow det(∇u) < 0, and
+// the Euler map x → x − u dt grows the traced water by O(dt |∇u|²) a second.
 // With `maccormack` (Selle, Fedkiw, Kim, Liu, Rossignac 2008; experimental) each step
 // traces the rays forward and back and corrects the forward value by half the round trip's
 // error, clamped to the values the forward stencil interpolated (after the ring rule):
-// second order where φ is smooth, never a new extremum. Trilinear alone smooths φ every
-// step and curved water shrinks by O(Δx^2 κ) a step (a box collapsing in a narrow tank,
-// 16 cells across: -39% in 0.6 s, MacCormack +2%; a sphere turning rigidly at 32^3, one
-// revolution: -100% and +1.6%); the particles of §4.4.2 are the paper's cure. Not the
-// default: a 64-cell dam break blew up with it (its speed doubling every 10 steps).
+// second order where φ is smooth, never a new extremum. Trilinear alone shrinks curved
+// water by O(Δx^2 κ) a step; the particles of §4.4.2 are the paper's cure. Not the
+// default: it made a dam break unstable.
 
 #include <array>
 #include <cstdint>
@@ -104,15 +99,11 @@ class LevelSetAdvector {
                                           const ShellGeometry& shells) const;
   /// The velocity node x traces with: u, except at an air node in `contact` with a shell
   /// (air_contact) where its normal part relative to the shell is taken out:
-  ///  - where u moves x off the shell. Extrapolated from the water, that part carried the
-  ///    shell's wet side out into the air: water from nothing (a cup shaken sideways gained
-  ///    55 % in 7.5 s, the water rising up its wall);
-  ///  - where u moves x onto the shell over a film between x and the shell (film_beneath).
-  ///    The film's surface moves off or onto the shell only as fast as the film thins or
-  ///    thickens, O(thickness/length) of its speed; extrapolated from thicker water, u's
-  ///    normal part traced the air above onto the film and dried it, a sliver a step (a
-  ///    sheet sliding down a tilted plate read −14.6 % at 1 s with that part, −7.4 %
-  ///    without). Water that comes at the shell from beyond x (φ falling off it) keeps it.
+  ///  - where u moves x off the shell: extrapolated from the water, that part carried the
+  ///    shell's wet side out into the air (water from nothing);
+  ///  - where u moves x onto the shell over a film between x and the shell (film_beneath):
+  ///    the film's surface moves only as fast as it thins, and that part dried the film.
+  ///    Water that comes at the shell from beyond x (φ falling off it) keeps it.
   Eigen::Vector3d off_shells(const Eigen::Vector3d& x, const Eigen::Vector3d& u, double p,
                              const ShellContact& contact, std::span<const double> phi, double dt,
                              const ShellGeometry& shells) const;

@@ -70,7 +70,7 @@ class Liquid {
   /// The scene's water among the shells of the first step: its level set as built, made a
   /// distance again by a march that sees them. The march at construction sees none, and
   /// took a shape's face lying on a shell (water standing in a cup, a layer on a shelf) for
-  /// a surface, thinning a layer a cell thick by up to a tenth.
+  /// a surface, thinning the water there.
   void settle_among_shells(const ShellGeometry& shells, const geometry::ShellBand* band);
   /// A restored run's: the volume the run counted from.
   void set_initial_volume(double volume) {

@@ -37,7 +37,6 @@
 //              as `removed`, and kept as spray drops, below). Water particles nearer than
 //              that are kept: a correction leaves φ at an escaped particle near 0.6Δx − r,
 //              and removed at 1.5 radii they took sharp features' water with them
-//              (Zalesak's sphere at 50³ lost 28 % in a revolution against 1.4 %)
 //   reseed_if_due()  every `reseed_every` frames: band cells holding fewer than `per_cell`
 //              particles get new ones (seeded ignoring the shells, then their sign taken
 //              from φ as seen from them, §4.4.2; water ones moved out to their collision

@@ -56,9 +56,8 @@ bool emitter_has_water(const LevelSet& level_set, const WaterSource& source);
 
 /// The flow [m^3/s] the emitter's held faces let out while it is on (t: a time it is on;
 /// the same at any): over the faces between its cells and the rest of the domain, the held
-/// velocity's outward part × Δx². What they
-/// impose on the divergence-free velocity, exactly: the cells' staircase, not π r² for a
-/// cylinder (44 Δx² for the cloth funnel's 3.6 cells, +8 %).
+/// velocity's outward part × Δx². What they impose on the divergence-free velocity,
+/// exactly: the cells' staircase, not π r² for a cylinder.
 double emitter_held_flow(const grid::UniformGrid& grid, const WaterSource& source, double t);
 
 /// The net water [m^3] that `velocity` carries out through the open sides of the domain
