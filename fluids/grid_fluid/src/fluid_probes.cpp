@@ -1,8 +1,11 @@
 #include "shellflow/grid_fluid/fluid_probes.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <algorithm>
 #include <cmath>
 
+#include "shellflow/grid_fluid/mac/domain_overlap.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
@@ -11,6 +14,16 @@ namespace shellflow::grid_fluid {
 
 using grid::Location;
 using sdk::Schema;
+
+namespace {
+/// What a probe outside the domain should do: it reads the domain's faces too.
+constexpr const char* kMoveProbe =
+    "move it (or the domain) so that it meets the domain (its faces count), or remove it";
+
+std::string point_text(const Eigen::Vector3d& p) {
+  return fmt::format("({:g}, {:g}, {:g})", p.x(), p.y(), p.z());
+}
+}  // namespace
 
 Schema FluidProbes::schema() {
   return Schema::array(
@@ -57,6 +70,11 @@ FluidProbes::FluidProbes(const nlohmann::json& probes, const std::string& path,
       probe.b = sdk::json_vec3(p, "max");
       if ((probe.b.array() < probe.a.array()).any())
         throw ConfigError(here + "/max", "each coordinate of max must be >= min's");
+      // Closed: a flat box on a face of the domain still reads the nodes on it.
+      const Eigen::AlignedBox3d box(probe.a, probe.b);
+      if (!domain_box(grid).intersects(box))
+        throw outside_domain(grid, here, "the box probe " + box_text(box), "it would always read 0",
+                             kMoveProbe);
     } else if (p.at("type") == "velocity_error") {
       probe.type = Type::VelocityError;
       // Sampled once: the reference does not change, the report is then a plain sum.
@@ -82,6 +100,12 @@ FluidProbes::FluidProbes(const nlohmann::json& probes, const std::string& path,
       probe.b = sdk::json_vec3(p, "to");
       if ((probe.b - probe.a).norm() == 0.0)
         throw ConfigError(here + "/to", "the segment has no length: give 'to' apart from 'from'");
+      // Closed, as for boxes: a segment along a face of the domain (a floor) reads its nodes.
+      if (!meets_domain(grid, probe.a, probe.b))
+        throw outside_domain(grid, here,
+                             "the water_extent probe's segment from " + point_text(probe.a) +
+                                 " to " + point_text(probe.b),
+                             "it would never sample the water in it", kMoveProbe);
     }
     m_probes.push_back(probe);
   }

@@ -191,7 +191,9 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
                                         context.fps, m_boundary, context.gravity);
   }
   for (size_t i = 0; i < sources.size(); ++i) {
-    m_sources.emplace_back(sources[i], "/sources/" + std::to_string(i));
+    const std::string path = "/sources/" + std::to_string(i);
+    m_sources.emplace_back(sources[i], path);
+    m_sources.back().require_in_domain(m_mac.grid(), path, "it would never set any smoke");
     m_temperature = m_temperature || m_sources.back().temperature().has_value();
   }
   if (params.contains("prescribed_velocity") && !params.at("prescribed_velocity").is_null()) {

@@ -103,5 +103,57 @@ TEST(FluidProbes, NamesAreUniqueColumnPrefixes) {
   EXPECT_THROW(test::make_fluid({{"probes", {probe("a.b")}}}), ConfigError);
 }
 
+TEST(FluidProbes, AProbeThatNeverMeetsTheDomainIsRefusedNamingItsPath) {
+  // Each probe lies wholly outside the domain [0, 1]³: validate refuses it at its own
+  // path, after a valid probe at /0, with its extent and the domain's. The last segment's
+  // bounding box overlaps the domain; the segment passes the edge x = y = 1 at 0.07.
+  const nlohmann::json level = {
+      {"type", "water_extent"}, {"name", "level"}, {"from", {0.5, 0, 0.5}}, {"to", {0.5, 1, 0.5}}};
+  const auto probe = [](nlohmann::json p) {
+    p["name"] = "outside";
+    return p;
+  };
+  const std::vector<std::pair<nlohmann::json, std::string>> cases = {
+      {probe({{"type", "box"}, {"min", {2, 2, 2}}, {"max", {3, 3, 3}}}),
+       "the box probe [(2, 2, 2), (3, 3, 3)] lies entirely outside the domain [(0, 0, 0), "
+       "(1, 1, 1)], so it would always read 0"},
+      {probe({{"type", "water_extent"}, {"from", {-1, 0.5, 0.5}}, {"to", {-0.5, 0.5, 0.5}}}),
+       "the water_extent probe's segment from (-1, 0.5, 0.5) to (-0.5, 0.5, 0.5) lies entirely "
+       "outside the domain [(0, 0, 0), (1, 1, 1)], so it would never sample the water in it"},
+      {probe({{"type", "water_extent"}, {"from", {1.5, 0.6, 0.5}}, {"to", {0.6, 1.5, 0.5}}}),
+       "the water_extent probe's segment from (1.5, 0.6, 0.5) to (0.6, 1.5, 0.5) lies entirely "
+       "outside"},
+  };
+  for (const auto& [outside, message_part] : cases) {
+    SCOPED_TRACE(outside.dump());
+    const std::string message =
+        test::validate_refusal({{"resolution", 8},
+                                {"water", {{"initial", {{{"type", "pool"}, {"height", 0.5}}}}}},
+                                {"probes", {level, outside}}});
+    EXPECT_THAT(message, HasSubstr(std::string(test::kRefusedScene) + ": /fluid/probes/1: "));
+    EXPECT_THAT(message, HasSubstr(message_part));
+  }
+}
+
+TEST(FluidProbes, AProbeOnAFaceOrPartlyOutsideIsAccepted) {
+  // A probe reads the nodes on the domain's faces, so a flat box on the face x = 0 counts
+  // them (17 x 17 nodes of Δx³ = 1/4096 each, exact in binary) and a segment along the
+  // floor's edge is accepted; so is a box partly outside.
+  std::unique_ptr<GridFluid> fluid;
+  ASSERT_NO_THROW(
+      fluid = test::make_fluid(
+          {{"resolution", 16},
+           {"probes",
+            {{{"type", "box"}, {"name", "face"}, {"min", {0, 0, 0}}, {"max", {0, 1, 1}}},
+             {{"type", "box"}, {"name", "across"}, {"min", {-1, -1, -1}}, {"max", {0.5, 2, 2}}},
+             {{"type", "water_extent"},
+              {"name", "edge"},
+              {"from", {0, 0, 0}},
+              {"to", {1, 0, 0}}}}}}));
+  for (auto& d : fluid->nodes().density()) d = 1.0;
+  EXPECT_EQ(test::reported(*fluid, "face.smoke_mass"), 17.0 * 17.0 / 4096.0);
+  EXPECT_EQ(test::reported(*fluid, "across.smoke_mass"), 9.0 * 17.0 * 17.0 / 4096.0);
+}
+
 }  // namespace
 }  // namespace shellflow::grid_fluid

@@ -1,6 +1,8 @@
 // Smoke physics and the node/face scheme without shells: buoyancy's known answer, a hot
 // plume rises, sources switch off on time, inviscid Taylor–Green energy rises with
-// resolution (§4.2), save/restore is bit exact, fields() describes the node layout.
+// resolution (§4.2), save/restore is bit exact, fields() describes the node layout; a
+// source that can set no cell of the domain is refused by name.
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,6 +15,7 @@ namespace shellflow::grid_fluid {
 namespace {
 
 using grid::Location;
+using ::testing::HasSubstr;
 constexpr double kPi = std::numbers::pi;
 
 TEST(SmokeForces, BuoyancyIsMinusAlphaRhoPlusBetaTemperatureExcess) {
@@ -102,6 +105,50 @@ TEST(SmokeSource, CylinderSetsExactlyTheNodesWithinItsRadiusAndEnds) {
     EXPECT_GT(intake, 10);
   }
   EXPECT_EQ(fields.velocity(0)[g.index(grid::Location::Node, 9, 9, 10)], 0.0);
+}
+
+TEST(SmokeSource, ASourceThatSetsNoCellIsRefusedNamingItsPath) {
+  // Each source lies wholly outside the domain [0, 1]³ or only touches a face: validate
+  // refuses it at its own path, after a valid source at /0, with its extent and the
+  // domain's.
+  const nlohmann::json inside = {{"shape", "sphere"}, {"center", {0.5, 0.5, 0.5}}, {"radius", 0.2}};
+  const std::vector<std::pair<nlohmann::json, std::string>> cases = {
+      {{{"shape", "sphere"}, {"center", {0.5, -0.5, 0.5}}, {"radius", 0.2}},
+       "the sphere emitter (bounds [(0.3, -0.7, 0.3), (0.7, -0.3, 0.7)])"},
+      // On the lid y = 1: no volume shared.
+      {{{"shape", "box"}, {"min", {0, 1, 0}}, {"max", {1, 1.5, 1}}},
+       "the box emitter (bounds [(0, 1, 0), (1, 1.5, 1)])"},
+      {{{"shape", "cylinder"}, {"from", {-1, 0.5, 0.5}}, {"to", {-0.5, 0.5, 0.5}}, {"radius", 0.1}},
+       "the cylinder emitter (bounds [(-1.1, 0.4, 0.4), (-0.4, 0.6, 0.6)])"},
+  };
+  for (const auto& [source, shape] : cases) {
+    SCOPED_TRACE(source.dump());
+    const std::string message =
+        test::validate_refusal({{"resolution", 8}, {"sources", {inside, source}}});
+    EXPECT_THAT(message, HasSubstr(std::string(test::kRefusedScene) + ": /fluid/sources/1: "));
+    EXPECT_THAT(message,
+                HasSubstr(shape + " lies entirely outside the domain [(0, 0, 0), (1, 1, 1)], "
+                                  "so it would never set any smoke"));
+  }
+}
+
+TEST(SmokeSource, ASourcePartlyOutsideTheDomainIsAcceptedAndSetsSmoke) {
+  // A nozzle through the floor (fed from below) and a ball centred on a face are inside
+  // in part: accepted, and their first step sets the nodes inside.
+  const std::vector<nlohmann::json> sources = {
+      {{"shape", "box"},
+       {"min", {0.4, -0.2, 0.4}},
+       {"max", {0.6, 0.1, 0.6}},
+       {"velocity", {0, 1, 0}}},
+      {{"shape", "sphere"}, {"center", {1, 0.5, 0.5}}, {"radius", 0.2}},
+  };
+  for (const auto& source : sources) {
+    SCOPED_TRACE(source.dump());
+    std::unique_ptr<GridFluid> fluid;
+    ASSERT_NO_THROW(fluid = test::make_fluid({{"resolution", 8}, {"sources", {source}}}));
+    fluid->advect(0.0, 0.01, {}, {});
+    EXPECT_GT(fluid->last_step().source_nodes, 0);
+  }
 }
 
 TEST(GridFluidSmoke, HotPlumeRisesAndTheSourceTurnsOff) {

@@ -14,6 +14,8 @@
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/grid_fluid/grid_fluid_solver.hpp"
 #include "shellflow/grid_fluid/water/liquid.hpp"
+#include "shellflow/runtime/run_driver.hpp"
+#include "shellflow/runtime/scene.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
 #include "shellflow/sdk/metrics.hpp"
 #include "shellflow/sdk/solid_solver.hpp"
@@ -48,6 +50,29 @@ inline std::unique_ptr<GridFluid> make_fluid(nlohmann::json params,
   context.gravity = gravity;
   return std::make_unique<GridFluid>(validated(std::move(params)), context);
 }
+
+#ifdef SHELLFLOW_TEST_PLUGIN_DIR  // defined for the test executables, not this support library
+/// The scene file name validate_refusal() gives its scenes (it is never read or written).
+inline constexpr const char* kRefusedScene = "refused_scene.json";
+
+/// What `shellflow validate` says of a scene whose only plugin is a grid_fluid with the
+/// parameters `fluid`, under gravity (0, −9.81, 0): the message a user reads, which names
+/// the file and the JSON path from the scene's root ("/fluid/..."). Empty, and a test
+/// failure, when the scene is accepted.
+inline std::string validate_refusal(nlohmann::json fluid) {
+  fluid["plugin"] = "grid_fluid";
+  const nlohmann::json scene = {{"gravity", {0, -9.81, 0}}, {"fluid", std::move(fluid)}};
+  try {
+    // As validate does: load_scene's checks, then every plugin constructed.
+    runtime::construct_plugins(
+        runtime::parse_scene(scene.dump(), kRefusedScene, {SHELLFLOW_TEST_PLUGIN_DIR}));
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "the scene was accepted: " << scene.dump();
+  return "";
+}
+#endif
 
 /// A square plate of side `size` centred at `center` with unit normal `normal`.
 /// (Defined in grid_fluid_test_support.cpp: Eigen's FromTwoVectors costs each file that

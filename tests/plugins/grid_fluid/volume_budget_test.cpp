@@ -1,7 +1,9 @@
 // The water's volume budget (VolumeBudget): what the emitters add and the open sides let
 // out, so that water_volume_drift = V − V(0) − added + outflow measures the solver's own
-// error in scenes whose water is not meant to stay what it was.
+// error in scenes whose water is not meant to stay what it was; an emitter that
+// could add no water (wholly outside the domain) is refused by name.
 
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -310,6 +312,57 @@ TEST(VolumeBudget, AStillPoolIsNotWarnedOf) {
   const double largest = run_reporting(*fluid, 0.2);
   EXPECT_LT(largest, 1e-6);
   EXPECT_TRUE(drift_warnings(log).empty());
+}
+
+using ::testing::HasSubstr;
+
+TEST(WaterSource, AnEmitterThatAddsNoWaterIsRefusedNamingItsPath) {
+  // Each emitter lies wholly outside the domain [0, 1]³ or only touches a face, so it
+  // would never add water: validate refuses it at its own path, after a valid emitter at
+  // /0, with its extent and the domain's.
+  const nlohmann::json inside = {{"shape", "box"},
+                                 {"min", {0.4, 0.8, 0.4}},
+                                 {"max", {0.6, 0.9, 0.6}},
+                                 {"velocity", {0, -1, 0}}};
+  const std::vector<std::pair<nlohmann::json, std::string>> cases = {
+      {{{"shape", "sphere"}, {"center", {0.5, 1.5, 0.5}}, {"radius", 0.3}},
+       "the sphere emitter (bounds [(0.2, 1.2, 0.2), (0.8, 1.8, 0.8)])"},
+      // On the face x = 1: no volume shared.
+      {{{"shape", "box"}, {"min", {1, 0, 0}}, {"max", {2, 1, 1}}},
+       "the box emitter (bounds [(1, 0, 0), (2, 1, 1)])"},
+      {{{"shape", "cylinder"}, {"from", {0.5, 0.5, 2}}, {"to", {0.5, 0.5, 3}}, {"radius", 0.2}},
+       "the cylinder emitter (bounds [(0.3, 0.3, 1.8), (0.7, 0.7, 3.2)])"},
+  };
+  for (const auto& [source, shape] : cases) {
+    SCOPED_TRACE(source.dump());
+    const std::string message =
+        test::validate_refusal({{"resolution", 8}, {"water", {{"sources", {inside, source}}}}});
+    EXPECT_THAT(message,
+                HasSubstr(std::string(test::kRefusedScene) + ": /fluid/water/sources/1: "));
+    EXPECT_THAT(message,
+                HasSubstr(shape + " lies entirely outside the domain [(0, 0, 0), (1, 1, 1)], "
+                                  "so it would never add water"));
+  }
+}
+
+TEST(WaterSource, AnEmitterPartlyOutsideTheDomainIsAcceptedAndLetsWaterIn) {
+  // A nozzle through the lid (fed from outside) and a ball centred on a face are inside in
+  // part: accepted, and their held faces let water into the domain.
+  const std::vector<nlohmann::json> sources = {
+      {{"shape", "box"},
+       {"min", {0.4, 0.8, 0.4}},
+       {"max", {0.6, 1.2, 0.6}},
+       {"velocity", {0, -1, 0}}},
+      {{"shape", "sphere"}, {"center", {0, 0.5, 0.5}}, {"radius", 0.3}, {"velocity", {1, 0, 0}}},
+  };
+  for (const auto& source : sources) {
+    SCOPED_TRACE(source.dump());
+    std::unique_ptr<GridFluid> fluid;
+    ASSERT_NO_THROW(fluid =
+                        test::make_fluid({{"resolution", 8}, {"water", {{"sources", {source}}}}}));
+    const Liquid& liquid = *fluid->liquid();
+    EXPECT_GT(emitter_held_flow(liquid.level_set().grid(), liquid.sources()[0], 0.0), 0.0);
+  }
 }
 
 }  // namespace

@@ -1,9 +1,12 @@
 #include "shellflow/grid_fluid/smoke/smoke_source.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
+#include "shellflow/grid_fluid/mac/domain_overlap.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
 
@@ -112,18 +115,31 @@ double SmokeSource::signed_distance(const Eigen::Vector3d& p) const {
   return std::min(q.maxCoeff(), 0.0) + q.cwiseMax(0.0).norm();
 }
 
+Eigen::AlignedBox3d SmokeSource::bounds() const {
+  if (m_shape == Shape::Sphere)
+    return Eigen::AlignedBox3d(m_center.array() - m_radius, m_center.array() + m_radius);
+  if (m_shape == Shape::Cylinder)
+    return Eigen::AlignedBox3d(m_min.cwiseMin(m_max).array() - m_radius,
+                               m_min.cwiseMax(m_max).array() + m_radius);
+  return Eigen::AlignedBox3d(m_min, m_max);
+}
+
+void SmokeSource::require_in_domain(const grid::UniformGrid& grid, const std::string& json_path,
+                                    const std::string& consequence) const {
+  const bool overlaps = m_shape == Shape::Sphere ? overlaps_domain(grid, m_center, m_radius)
+                                                 : overlaps_domain(grid, bounds());
+  if (overlaps) return;
+  static const char* kNames[] = {"sphere", "box", "cylinder"};
+  throw outside_domain(grid, json_path,
+                       fmt::format("the {} emitter (bounds {})", kNames[static_cast<int>(m_shape)],
+                                   box_text(bounds())),
+                       consequence, kMoveIntoDomain);
+}
+
 grid::IndexBox SmokeSource::bounding_samples(const grid::UniformGrid& grid, grid::Location loc,
                                              double margin) const {
-  Eigen::Vector3d lo = m_min;
-  Eigen::Vector3d hi = m_max;
-  if (m_shape == Shape::Sphere) {
-    lo = m_center.array() - m_radius;
-    hi = m_center.array() + m_radius;
-  } else if (m_shape == Shape::Cylinder) {
-    lo = m_min.cwiseMin(m_max).array() - m_radius;
-    hi = m_min.cwiseMax(m_max).array() + m_radius;
-  }
-  return grid.samples_in_box(loc, lo.array() - margin, hi.array() + margin);
+  const Eigen::AlignedBox3d box = bounds();
+  return grid.samples_in_box(loc, box.min().array() - margin, box.max().array() + margin);
 }
 
 void SmokeSource::append_faces(double t, const grid::UniformGrid& grid, int axis,

@@ -1,11 +1,14 @@
 #include "shellflow/grid_fluid/water/initial_water.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
 
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/geometry/triangle_bvh.hpp"
+#include "shellflow/grid_fluid/mac/domain_overlap.hpp"
 #include "shellflow/grid_fluid/smoke/smoke_source.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
@@ -141,9 +144,28 @@ void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up
     const std::string type = spec.at("type").get<std::string>();
     const bool subtract = spec.at("subtract").get<bool>();
     std::function<double(const Eigen::Vector3d&)> distance;
+    // Whether the entry shares a volume with the domain (one that does not, or only touches
+    // a face, fills no cell), and what it is and where, for the message if not.
+    bool reaches = false;
+    std::string shape;
+    std::string fix = kMoveIntoDomain;
+    std::optional<geometry::SurfaceMesh> surface;
     if (type == "pool") {
       const double height = spec.at("height").get<double>();
       distance = [=](const Eigen::Vector3d& p) { return p.dot(up) - height; };
+      // Water where x·up < height: the domain's lowest x·up (at its corner furthest down)
+      // must lie below the surface.
+      const Eigen::AlignedBox3d domain = domain_box(grid);
+      const Eigen::Vector3d lo = domain.min().cwiseProduct(up), hi = domain.max().cwiseProduct(up);
+      const double lowest = lo.cwiseMin(hi).sum(), highest = lo.cwiseMax(hi).sum();
+      reaches = lowest < height;
+      const Eigen::Vector3d shown = up.array() + 0.0;  // + 0: no "-0" of a negated gravity
+      shape = fmt::format(
+          "the pool (water where x·up < {:g}; x·up spans [{:g}, {:g}] over the "
+          "domain, up = ({:g}, {:g}, {:g}))",
+          height, lowest + 0.0, highest + 0.0, shown.x(), shown.y(), shown.z());
+      fix = fmt::format("raise its height above {:g} (the domain's lowest x·up), or remove it",
+                        lowest);
     } else if (type == "box") {
       const Eigen::Vector3d lo = sdk::json_vec3(spec, "min"), hi = sdk::json_vec3(spec, "max");
       if ((hi.array() <= lo.array()).any())
@@ -152,25 +174,42 @@ void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up
         const Eigen::Vector3d q = (p - 0.5 * (lo + hi)).cwiseAbs() - 0.5 * (hi - lo);
         return std::min(q.maxCoeff(), 0.0) + q.cwiseMax(0.0).norm();
       };
+      reaches = overlaps_domain(grid, Eigen::AlignedBox3d(lo, hi));
+      shape = "the box " + box_text(Eigen::AlignedBox3d(lo, hi));
     } else if (type == "sphere") {
       const Eigen::Vector3d c = sdk::json_vec3(spec, "center");
       const double r = spec.at("radius").get<double>();
       distance = [=](const Eigen::Vector3d& p) { return (p - c).norm() - r; };
+      reaches = overlaps_domain(grid, c, r);
+      shape =
+          "the sphere (bounds " + box_text(Eigen::AlignedBox3d(c.array() - r, c.array() + r)) + ")";
     } else if (type == "cylinder") {
       // The emitters' capped cylinder (its checks name this entry's keys).
-      const SmokeSource shape({{"shape", "cylinder"},
-                               {"from", spec.at("from")},
-                               {"to", spec.at("to")},
-                               {"radius", spec.at("radius")}},
-                              path);
-      distance = [shape](const Eigen::Vector3d& p) { return shape.signed_distance(p); };
+      const SmokeSource cylinder({{"shape", "cylinder"},
+                                  {"from", spec.at("from")},
+                                  {"to", spec.at("to")},
+                                  {"radius", spec.at("radius")}},
+                                 path);
+      distance = [cylinder](const Eigen::Vector3d& p) { return cylinder.signed_distance(p); };
+      // By its bounding box, as the emitters' cylinders (SmokeSource::require_in_domain).
+      reaches = overlaps_domain(grid, cylinder.bounds());
+      shape = "the cylinder (bounds " + box_text(cylinder.bounds()) + ")";
     } else {
-      auto surface = geometry::make_mesh(spec.at("mesh"), path + "/mesh");
+      surface = geometry::make_mesh(spec.at("mesh"), path + "/mesh");
       geometry::apply_transform(
           geometry::transform_from_json(spec.value("transform", nlohmann::json::object()),
                                         path + "/transform"),
-          surface);
-      fill_mesh(surface, subtract, level_set);
+          *surface);
+      const Eigen::AlignedBox3d bounds(surface->positions.colwise().minCoeff().transpose(),
+                                       surface->positions.colwise().maxCoeff().transpose());
+      reaches = overlaps_domain(grid, bounds);
+      shape = "the mesh, transformed (bounds " + box_text(bounds) + ")";
+    }
+    if (!reaches)
+      throw outside_domain(grid, path, shape,
+                           subtract ? "it would remove no water" : "it would add no water", fix);
+    if (surface) {
+      fill_mesh(*surface, subtract, level_set);
       continue;
     }
     if (subtract) {

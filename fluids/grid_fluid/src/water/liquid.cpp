@@ -119,8 +119,11 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   m_particles.set_walls(m_walls);
   fill_initial_water(params.at("initial"), up, "/water/initial", m_level_set);
   const auto& sources = params.at("sources");
-  for (size_t i = 0; i < sources.size(); ++i)
-    m_sources.emplace_back(sources[i], "/water/sources/" + std::to_string(i));
+  for (size_t i = 0; i < sources.size(); ++i) {
+    const std::string path = "/water/sources/" + std::to_string(i);
+    m_sources.emplace_back(sources[i], path);
+    m_sources.back().require_in_domain(grid, path);
+  }
   m_held_flow.assign(m_sources.size(), std::numeric_limits<double>::quiet_NaN());
   m_scratch = m_level_set.phi();
   m_valid.assign(m_level_set.phi().size(), 1);

@@ -33,8 +33,8 @@ class FluidProbes {
  public:
   static sdk::Schema schema();
   FluidProbes() = default;
-  /// `probes`: validated against schema(). @throw ConfigError for a duplicate name
-  /// (`path`: the probes' JSON path, for messages).
+  /// `probes`: validated against schema(). @throw ConfigError for a duplicate name, or a box
+  /// or segment that never meets `grid`'s domain (`path`: the probes' JSON path, for messages).
   /// `grid`: where a velocity_error probe samples its reference field.
   FluidProbes(const nlohmann::json& probes, const std::string& path, const grid::UniformGrid& grid);
 

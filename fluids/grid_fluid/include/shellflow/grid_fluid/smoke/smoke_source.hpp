@@ -11,6 +11,7 @@
 // curtain scene, and the CFL step shrink with it.
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -36,6 +37,14 @@ class SmokeSource {
   bool contains(const Eigen::Vector3d& p) const;
   /// Signed distance [m] from p to the emitter's surface (negative inside).
   double signed_distance(const Eigen::Vector3d& p) const;
+  /// The emitter's bounding box (a cylinder's: its axis grown by the radius every way).
+  Eigen::AlignedBox3d bounds() const;
+  /// @throw ConfigError at `json_path` (as outside_domain()) when the emitter shares no
+  /// volume with `grid`'s domain; `consequence` says what it would then never do. Exact for
+  /// a sphere and a box; a cylinder is judged by bounds(), which may pass one that only
+  /// passes by an edge of the domain.
+  void require_in_domain(const grid::UniformGrid& grid, const std::string& json_path,
+                         const std::string& consequence) const;
   /// The samples at `loc` in the emitter's bounding box grown by `margin` [m].
   grid::IndexBox bounding_samples(const grid::UniformGrid& grid, grid::Location loc,
                                   double margin = 0.0) const;

@@ -29,8 +29,9 @@ namespace shellflow::grid_fluid {
 sdk::Schema initial_water_schema();
 
 /// φ = min over `entries` (validated against initial_water_schema()) of their signed
-/// distances (max(φ, −d) for a subtracted entry), clamped to ±band; `up` (unit) is the pools' up direction. ConfigError at
-/// `json_path`/i/... for values the schema cannot check.
+/// distances (max(φ, −d) for a subtracted entry), clamped to ±band; `up` (unit) is the pools' up
+/// direction. ConfigError at `json_path`/i/... for values the schema cannot check, and at
+/// `json_path`/i for an entry that shares no volume with the level set's domain (outside_domain()).
 void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up,
                         const std::string& json_path, LevelSet& level_set);
 

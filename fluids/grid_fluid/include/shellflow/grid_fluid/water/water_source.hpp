@@ -29,6 +29,11 @@ class WaterSource {
   grid::IndexBox bounding_nodes(const grid::UniformGrid& grid, double margin) const {
     return m_emitter.bounding_samples(grid, grid::Location::Node, margin);
   }
+  /// @throw ConfigError at `json_path` when the emitter shares no volume with the domain
+  /// (SmokeSource::require_in_domain): it would never add water.
+  void require_in_domain(const grid::UniformGrid& grid, const std::string& json_path) const {
+    m_emitter.require_in_domain(grid, json_path, "it would never add water");
+  }
   /// Does the emitter's shape contain p?
   bool contains(const Eigen::Vector3d& p) const { return m_emitter.contains(p); }
   /// The cells whose centre may lie inside it (clamped to the grid).
