@@ -89,6 +89,13 @@ RgbImage PreviewRenderer::render(const sdk::FrameView& frame) const {
       throw Error(std::string("preview_writer: ") + e.what());
     }
   }
+  std::optional<FloorShadow> shadow;
+  if (walls && walls->floor() >= 0 && m_settings.floor_shadow > 0.0 && (water || smoke)) {
+    shadow.emplace(walls->floor());
+    if (auto phi = find_field(fields, m_settings.water_field)) shadow->add_water(*phi);
+    if (auto density = find_field(fields, m_settings.density_field))
+      shadow->add_smoke(*density, m_settings.absorption);
+  }
   const double sigma = m_settings.absorption;
   const double step = smoke ? m_settings.step_voxels * smoke->dx() : 0.0;
   const double water_step =
@@ -110,6 +117,8 @@ RgbImage PreviewRenderer::render(const sdk::FrameView& frame) const {
       if (wall != nullptr && wall->wall()) {
         behind = wall->colour;  // behind everything in the box
         smoke_end = wall->distance;
+        if (shadow && wall->floor)
+          behind *= 1.0 - s.floor_shadow * shadow->at(ray.origin + wall->distance * ray.direction);
       }
       double nearest = std::numeric_limits<double>::infinity();  // water or shell: hides edges
       double water_end = std::numeric_limits<double>::infinity();

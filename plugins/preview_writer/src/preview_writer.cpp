@@ -94,6 +94,13 @@ sdk::Schema PreviewWriter::schema() {
                  "inside: the floor (the wall gravity points into) with a grid of 1, 2 or 5 x "
                  "10^k m squares, the other walls flat, the box's edges along walls as thin "
                  "lines; open and inflow sides are not drawn"))
+      .field("floor_shadow",
+             Schema::number(d.floor_shadow)
+                 .min(0.0)
+                 .max(1.0)
+                 .doc("how much the shadow of the water and smoke under a light straight above "
+                      "darkens the floor (the floor's colour times 1 - floor_shadow in full "
+                      "shadow; 0: none): water in mid-air shows where it is above the floor"))
       .field("floor_color", colour(d.wall_colours.floor.x(), d.wall_colours.floor.y(),
                                    d.wall_colours.floor.z(), "colour of the floor"))
       .field("grid_color",
@@ -126,6 +133,7 @@ PreviewSettings preview_settings_from_json(const nlohmann::json& params) {
   if (params.contains("grid_color")) s.wall_colours.grid = read_colour(params, "grid_color");
   if (params.contains("wall_color")) s.wall_colours.wall = read_colour(params, "wall_color");
   s.walls = params.value("walls", s.walls);
+  s.floor_shadow = params.value("floor_shadow", s.floor_shadow);
   s.ambient = params.value("ambient", s.ambient);
   s.density_field = params.value("density_field", s.density_field);
   s.water_field = params.value("water_field", s.water_field);

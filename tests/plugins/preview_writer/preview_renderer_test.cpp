@@ -502,6 +502,71 @@ TEST(PreviewRenderer, SmokeInFrontOfTheWallsAbsorbsThemAsTheBackground) {
                Eigen::Vector3d::Constant(1.0 - T) + T * s.wall_colours.wall, kQuantisation);
 }
 
+TEST(FloorShadow, ColumnsHoldingWaterOrSmokeShadeTheFloorBelowThem) {
+  // The ball (radius 0.5, nodes 0.04 apart, φ clamped to ±0.12) over a floor at y_min: the
+  // column through its centre holds water, s = 1; the column at x = 0.7 is 0.2 clear of it
+  // (φ ≥ band), s = 0. At x = 0.5, between the columns at 0.48 (min φ = −0.02: 1/2 + 1/2,
+  // s = 1) and 0.52 (min φ = 0.02: s = 0), bilinear: 1/2. Round-off only (1e-14).
+  SyntheticFluid fluid;
+  add_water_ball(fluid);
+  FloorShadow water(2);
+  water.add_water(fluid.fields()[0]);
+  EXPECT_NEAR(water.at({0.0, -0.8, 0.0}), 1.0, 1e-14);
+  EXPECT_NEAR(water.at({0.7, -0.8, 0.0}), 0.0, 1e-14);
+  EXPECT_NEAR(water.at({0.5, -0.8, 0.0}), 0.5, 1e-14);
+  EXPECT_EQ(water.at({0.9, -0.8, 0.0}), 0.0);  // outside the field's box
+  // The slab's column along z (a floor at z_min, gravity along −z): all its 10 layers,
+  // s = 1 − exp(−σ ρ L), the slab's absorption seen straight through.
+  SyntheticFluid slab;
+  add_slab(slab);
+  FloorShadow smoke(4);
+  smoke.add_smoke(slab.fields()[0], kSigma);
+  const double T = std::exp(-kSigma * kRho * kSlabLength);
+  EXPECT_NEAR(smoke.at({0.1, -0.3, -0.5}), 1.0 - T, 1e-14);
+  EXPECT_EQ(smoke.at({1.0, 0.0, -0.5}), 0.0);  // outside the field's box
+  // Two fields: the light that passes each, 1 − (1 − s_1)(1 − s_2).
+  FloorShadow both(4);
+  both.add_smoke(slab.fields()[0], kSigma);
+  both.add_smoke(slab.fields()[0], kSigma);
+  EXPECT_NEAR(both.at({0.1, -0.3, -0.5}), 1.0 - T * T, 1e-14);
+}
+
+TEST(PreviewRenderer, WaterInMidAirCastsItsShadowOnTheFloorBelowIt) {
+  // The ball 0.3 m above the floor of a closed box (y = −0.8), seen from above and in
+  // front: the near part of its shadow shows on the floor below it.
+  SyntheticFluid boxed;
+  add_water_ball(boxed);
+  const sdk::DomainView box = closed_box({-0.8, -0.8, -0.8}, {0.8, 0.8, 0.8});
+  boxed.set_domain(box);
+  PreviewSettings s = wall_settings(water_settings());
+  s.camera_position = {0.0, 1.0, 3.0};
+  s.look_at = {0.0, -0.4, 0.0};
+  s.vertical_fov_deg = 50.0;
+  s.width = 61;
+  s.height = 61;
+  const PreviewRenderer renderer(s);
+  const RgbImage image = renderer.render({0, 0.0, {}, &boxed});
+  const auto walls = renderer.walls(box);
+  FloorShadow shadow(2);
+  shadow.add_water(boxed.fields()[0]);
+  const WaterSurface water(boxed.fields()[0]);
+  int full = 0, clear = 0;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      const WallPixel& wall = walls->pixel(x, y);
+      if (!wall.floor || wall.edge_alpha > 0.0) continue;
+      const Ray ray = renderer.camera().pixel_ray(x, y);
+      if (water.first_hit(ray.origin, ray.direction, 1e9, 0.5 * kWaterDx).hit()) continue;
+      // The floor's own colour (with its grid) times 1 − floor_shadow · s.
+      const double sh = shadow.at(ray.origin + wall.distance * ray.direction);
+      expect_pixel(image, x, y, (1.0 - s.floor_shadow * sh) * wall.colour, kQuantisation);
+      full += sh == 1.0 ? 1 : 0;
+      clear += sh == 0.0 ? 1 : 0;
+    }
+  EXPECT_GT(full, 20);    // not vacuous: the shadow is seen ...
+  EXPECT_GT(clear, 200);  // ... and the lit floor around it
+}
+
 TEST(PreviewRenderer, WallsAreTracedOncePerDomainAndCanBeTurnedOff) {
   PreviewSettings s = wall_settings(slab_settings());
   const PreviewRenderer renderer(s);

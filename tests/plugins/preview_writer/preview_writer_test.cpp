@@ -145,6 +145,7 @@ TEST_F(PreviewWriterTest, WallParamsAndTheScenesGravityReachTheRenderer) {
   params["floor_color"] = {0.3, 0.3, 0.3};
   params["grid_color"] = {0.6, 0.6, 0.6};
   params["wall_color"] = {0.1, 0.2, 0.3};
+  params["floor_shadow"] = 0.25;
   sdk::Context context;
   context.gravity = {0.0, 0.0, -9.81};
   const PreviewWriter writer(params, context);
@@ -153,6 +154,7 @@ TEST_F(PreviewWriterTest, WallParamsAndTheScenesGravityReachTheRenderer) {
   EXPECT_EQ(s.wall_colours.floor, Eigen::Vector3d(0.3, 0.3, 0.3));
   EXPECT_EQ(s.wall_colours.grid, Eigen::Vector3d(0.6, 0.6, 0.6));
   EXPECT_EQ(s.wall_colours.wall, Eigen::Vector3d(0.1, 0.2, 0.3));
+  EXPECT_EQ(s.floor_shadow, 0.25);
   EXPECT_EQ(s.down, Eigen::Vector3d(0.0, 0.0, -9.81));
   sdk::DomainView box;
   box.lower = {-1.0, -1.0, -1.0};

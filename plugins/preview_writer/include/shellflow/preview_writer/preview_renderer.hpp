@@ -24,7 +24,9 @@
 // water or shell nearer to the eye; an edge covering a fraction a of a pixel at ray
 // parameter s_e gives (1 − a) · pixel + a · (smoke_colour (1 − T_e) + T_e · grid_colour)
 // with T_e the transmittance up to s_e: the same front-to-back compositing with the edge as
-// one more layer.
+// one more layer. The floor is darkened by the shadow the water and smoke cast on it from
+// a light straight above (FloorShadow, computed per frame from the fields), so that water
+// in mid-air shows where it is above the floor.
 // The walls are opaque: the part of a shell beyond a far wall, outside the fluid's box, is
 // hidden like anything else behind a wall.
 
@@ -35,6 +37,7 @@
 
 #include "shellflow/preview_writer/camera.hpp"
 #include "shellflow/preview_writer/domain_walls.hpp"
+#include "shellflow/preview_writer/floor_shadow.hpp"
 #include "shellflow/preview_writer/rgb_image.hpp"
 #include "shellflow/sdk/writer.hpp"
 
@@ -59,6 +62,7 @@ struct PreviewSettings {
   std::string water_field = "phi";                    ///< level set, φ ≤ 0 water
   bool walls = true;  ///< draw the fluid domain's walls (DomainWalls)
   WallColours wall_colours;
+  double floor_shadow = 0.5;  ///< the floor's colour × (1 − floor_shadow) in full shadow
   /// Gravity's direction: the floor is the wall it points into. Not a parameter: the
   /// writer takes it from the scene (or the camera's down when the scene has no gravity).
   Eigen::Vector3d down{0.0, -1.0, 0.0};
