@@ -602,6 +602,20 @@ void GridFluid::restore(sdk::StateReader& in) {
   m_nodes_current = false;
 }
 
+std::optional<sdk::DomainView> GridFluid::domain() const {
+  sdk::DomainView d;
+  d.lower = m_mac.grid().origin();
+  d.upper = m_mac.grid().upper();
+  for (int axis = 0; axis < 3; ++axis)
+    for (int max_side = 0; max_side < 2; ++max_side) {
+      const BoundaryType type = m_boundary.side(axis, max_side).type;
+      d.sides[2 * axis + max_side] = type == BoundaryType::Wall   ? sdk::DomainView::Side::Wall
+                                     : type == BoundaryType::Open ? sdk::DomainView::Side::Open
+                                                                  : sdk::DomainView::Side::Inflow;
+    }
+  return d;
+}
+
 std::vector<sdk::FieldView> GridFluid::fields() const {
   const auto& g = m_mac.grid();
   const auto view = [&](const char* name, sdk::FieldView::Location loc, Location gl,

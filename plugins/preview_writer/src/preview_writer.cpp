@@ -87,7 +87,28 @@ sdk::Schema PreviewWriter::schema() {
       .field("water_field",
              Schema::string(d.water_field)
                  .doc("name of the fluid's level set field (phi <= 0 water) drawn as a surface; "
-                      "marched with step min(step_voxels, 0.5) grid spacings"));
+                      "marched with step min(step_voxels, 0.5) grid spacings"))
+      .field("walls",
+             Schema::boolean(d.walls).doc(
+                 "draw the fluid domain's closed sides behind everything in it, seen from "
+                 "inside: the floor (the wall gravity points into) with a grid of 1, 2 or 5 x "
+                 "10^k m squares, the other walls flat, the box's edges along walls as thin "
+                 "lines; open and inflow sides are not drawn"))
+      .field("floor_shadow",
+             Schema::number(d.floor_shadow)
+                 .min(0.0)
+                 .max(1.0)
+                 .doc("how much the shadow of the water and smoke under a light straight above "
+                      "darkens the floor (the floor's colour times 1 - floor_shadow in full "
+                      "shadow; 0: none): water in mid-air shows where it is above the floor"))
+      .field("floor_color", colour(d.wall_colours.floor.x(), d.wall_colours.floor.y(),
+                                   d.wall_colours.floor.z(), "colour of the floor"))
+      .field("grid_color",
+             colour(d.wall_colours.grid.x(), d.wall_colours.grid.y(), d.wall_colours.grid.z(),
+                    "colour of the floor's grid lines and of the box's edges"))
+      .field("wall_color",
+             colour(d.wall_colours.wall.x(), d.wall_colours.wall.y(), d.wall_colours.wall.z(),
+                    "colour of the walls other than the floor"));
 }
 
 PreviewSettings preview_settings_from_json(const nlohmann::json& params) {
@@ -108,6 +129,11 @@ PreviewSettings preview_settings_from_json(const nlohmann::json& params) {
   if (params.contains("water_color")) s.water_color = read_colour(params, "water_color");
   if (params.contains("water_rim_color"))
     s.water_rim_color = read_colour(params, "water_rim_color");
+  if (params.contains("floor_color")) s.wall_colours.floor = read_colour(params, "floor_color");
+  if (params.contains("grid_color")) s.wall_colours.grid = read_colour(params, "grid_color");
+  if (params.contains("wall_color")) s.wall_colours.wall = read_colour(params, "wall_color");
+  s.walls = params.value("walls", s.walls);
+  s.floor_shadow = params.value("floor_shadow", s.floor_shadow);
   s.ambient = params.value("ambient", s.ambient);
   s.density_field = params.value("density_field", s.density_field);
   s.water_field = params.value("water_field", s.water_field);
@@ -121,10 +147,19 @@ PreviewSettings preview_settings_from_json(const nlohmann::json& params) {
   return s;
 }
 
-PreviewWriter::PreviewWriter(const nlohmann::json& params, const sdk::Context& /*context*/)
+PreviewSettings preview_settings_from_json(const nlohmann::json& params,
+                                           const sdk::Context& context) {
+  PreviewSettings s = preview_settings_from_json(params);
+  const Eigen::Vector3d& g = context.gravity;
+  // Without gravity the floor is the wall below the camera (the one down in the image).
+  s.down = g.allFinite() && g.norm() > 0.0 ? g : Eigen::Vector3d(-s.up);
+  return s;
+}
+
+PreviewWriter::PreviewWriter(const nlohmann::json& params, const sdk::Context& context)
     : m_folder_name(params.value("folder", std::string("previews"))),
       m_every(params.value("every", 1)),
-      m_renderer(preview_settings_from_json(params)) {
+      m_renderer(preview_settings_from_json(params, context)) {
   if (m_every < 1) throw ConfigError("/every", "must be at least 1");
   sdk::check_subfolder(m_folder_name, "/folder");
 }

@@ -140,6 +140,41 @@ TEST_F(PreviewWriterTest, WaterParamsReachTheRendererAndTheImage) {
             Eigen::Vector3i(255, 128, 64));  // round(255 · (1, 0.5, 0.25)): background
 }
 
+TEST_F(PreviewWriterTest, WallParamsAndTheScenesGravityReachTheRenderer) {
+  auto params = slab_params(1);
+  params["floor_color"] = {0.3, 0.3, 0.3};
+  params["grid_color"] = {0.6, 0.6, 0.6};
+  params["wall_color"] = {0.1, 0.2, 0.3};
+  params["floor_shadow"] = 0.25;
+  sdk::Context context;
+  context.gravity = {0.0, 0.0, -9.81};
+  const PreviewWriter writer(params, context);
+  const PreviewSettings& s = writer.renderer().settings();
+  EXPECT_TRUE(s.walls);  // on by default
+  EXPECT_EQ(s.wall_colours.floor, Eigen::Vector3d(0.3, 0.3, 0.3));
+  EXPECT_EQ(s.wall_colours.grid, Eigen::Vector3d(0.6, 0.6, 0.6));
+  EXPECT_EQ(s.wall_colours.wall, Eigen::Vector3d(0.1, 0.2, 0.3));
+  EXPECT_EQ(s.floor_shadow, 0.25);
+  EXPECT_EQ(s.down, Eigen::Vector3d(0.0, 0.0, -9.81));
+  sdk::DomainView box;
+  box.lower = {-1.0, -1.0, -1.0};
+  box.upper = {1.0, 1.0, 1.0};
+  EXPECT_EQ(writer.renderer().walls(box)->floor(), 4);  // z_min: gravity along −z
+  // No gravity: the floor is the wall down in the image (the camera's up is +y).
+  context.gravity = Eigen::Vector3d::Zero();
+  EXPECT_EQ(PreviewWriter(params, context).renderer().walls(box)->floor(), 2);
+  params["walls"] = false;
+  EXPECT_FALSE(PreviewWriter(params, context).renderer().settings().walls);
+  params["walls"] = true;
+  params["wall_color"] = {0.1, 1.2, 0.3};
+  try {
+    PreviewWriter bad(params, context);
+    FAIL() << "a colour component above 1 was accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.json_path(), "/wall_color");
+  }
+}
+
 TEST_F(PreviewWriterTest, BadCameraIsAConfigErrorNamingIt) {
   auto params = slab_params(1);
   params["camera"]["up"] = {0.0, 0.0, -2.0};  // parallel to the view direction

@@ -1,11 +1,13 @@
 #pragma once
 // A FluidSolver test double for the writer tests: it owns a few grid fields filled by
-// the test and shows them through fields(); the solver calls do nothing.
+// the test and shows them through fields(), and a domain box if the test gives one
+// (domain()); the solver calls do nothing.
 
 #include <algorithm>
 #include <array>
 #include <deque>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -65,6 +67,10 @@ class SyntheticFluid final : public sdk::FluidSolver {
     throw std::out_of_range("SyntheticFluid: no field " + name);
   }
 
+  /// What domain() reports from now on (nothing until set).
+  void set_domain(const sdk::DomainView& domain) { m_domain = domain; }
+  std::optional<sdk::DomainView> domain() const override { return m_domain; }
+
   double stable_dt(double /*cfl*/) const override {
     return std::numeric_limits<double>::infinity();
   }
@@ -92,6 +98,7 @@ class SyntheticFluid final : public sdk::FluidSolver {
 
  private:
   std::deque<Field> m_fields;  // a deque: add() keeps earlier references valid
+  std::optional<sdk::DomainView> m_domain;
 };
 
 /// The water level set a fluid shows writers: node field "phi" (φ ≤ 0 water), the signed

@@ -38,6 +38,23 @@ struct ParticleView {
   const double* radius = nullptr;                                    ///< [m]
 };
 
+/// The fluid's domain box and the condition on each of its six faces, for writers (a
+/// preview draws the walls, so that water on the floor and water in mid-air look
+/// different). Sides are numbered 2 * axis + (0 for the min face, 1 for the max face).
+struct DomainView {
+  enum class Side {
+    Wall,    ///< closed: no flow through it
+    Open,    ///< outflow: the fluid may leave through it
+    Inflow,  ///< the fluid enters through it at a given velocity
+  };
+  Eigen::Vector3d lower = Eigen::Vector3d::Zero();  ///< [m]
+  Eigen::Vector3d upper = Eigen::Vector3d::Zero();  ///< [m]
+  std::array<Side, 6> sides{Side::Wall, Side::Wall, Side::Wall, Side::Wall, Side::Wall, Side::Wall};
+
+  Side side(int axis, int max_side) const { return sides[2 * axis + max_side]; }
+  bool operator==(const DomainView&) const = default;
+};
+
 /// One module of a run plan: what a scene turns on or leaves off, and why (run.json).
 struct PlanEntry {
   std::string module;
@@ -89,6 +106,9 @@ class FluidSolver {
 
   /// The fluid's own modules for run.json's run plan (e.g. smoke or water, and why).
   virtual std::vector<PlanEntry> plan() const { return {}; }
+
+  /// The domain box and its sides, for writers; nothing for a fluid without a box.
+  virtual std::optional<DomainView> domain() const { return std::nullopt; }
 };
 
 }  // namespace shellflow::sdk

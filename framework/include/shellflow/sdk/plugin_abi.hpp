@@ -14,9 +14,9 @@
 #include <cstddef>
 #include <cstdint>
 
-// 5: FluidSolver::start (vtable); 4: MultigridPreconditioner::Level (layout); 3: StateWriter
+// 6: FluidSolver::domain (vtable); 5: FluidSolver::start (vtable); 4: MultigridPreconditioner::Level (layout); 3: StateWriter
 // (layout).
-#define SHELLFLOW_ABI_MAJOR 5
+#define SHELLFLOW_ABI_MAJOR 6
 #define SHELLFLOW_ABI_MINOR 0
 #define SHELLFLOW_ENTRY_SYMBOL "shellflow_plugin_entry"
 

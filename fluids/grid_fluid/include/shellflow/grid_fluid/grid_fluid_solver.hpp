@@ -95,6 +95,8 @@ class GridFluid final : public sdk::FluidSolver {
   std::optional<std::string> find_nonfinite() const override;
   void report(sdk::Metrics& out) const override;
   std::vector<sdk::PlanEntry> plan() const override;
+  /// The grid's box (max as moved to fit whole cells) and the "boundary" sides.
+  std::optional<sdk::DomainView> domain() const override;
 
   // For tests and benchmarks.
   const grid::UniformGrid& grid() const { return m_mac.grid(); }

@@ -26,6 +26,12 @@ class Camera {
   int height() const { return m_height; }
   const Eigen::Vector3d& position() const { return m_position; }
   const Eigen::Vector3d& forward() const { return m_forward; }
+  const Eigen::Vector3d& right() const { return m_right; }
+  const Eigen::Vector3d& up() const { return m_up; }
+  /// The side of a pixel on the image plane at unit distance along forward(): pixel_ray's
+  /// unnormalised direction forward + sx right + sy up moves by pixel_size() right per
+  /// pixel in x and by pixel_size() down per pixel in y (square pixels).
+  double pixel_size() const { return 2.0 * m_tan_half_fov / m_height; }
 
  private:
   Eigen::Vector3d m_position;

@@ -1,7 +1,7 @@
 #pragma once
 // The "preview_writer" writer: `<out_dir>/<folder>/<scene>_<frame:04d>.png` per written
-// frame, rendered by PreviewRenderer (camera, smoke absorption, colours and field names
-// from params).
+// frame, rendered by PreviewRenderer (camera, smoke absorption, colours, field names and
+// walls from params; which wall is the floor from the scene's gravity).
 
 #include <filesystem>
 #include <nlohmann/json.hpp>
@@ -20,6 +20,10 @@ std::string preview_file_name(const std::string& scene_name, int frame);
 /// Params (validated against PreviewWriter::schema(), defaults filled) → settings.
 /// @throw ConfigError naming the parameter for what the schema cannot check.
 PreviewSettings preview_settings_from_json(const nlohmann::json& params);
+/// The same, with `down` (which wall is the floor) from the scene's gravity, or the
+/// camera's down (−up) when the scene has none.
+PreviewSettings preview_settings_from_json(const nlohmann::json& params,
+                                           const sdk::Context& context);
 
 class PreviewWriter final : public sdk::Writer {
  public:
