@@ -13,6 +13,7 @@ BUILD_TYPE="${BUILD_TYPE:-Release}"
 
 PACKAGES=(
   cmake ninja-build g++ pkg-config
+  ccache               # the build reuses objects across rebuilds and clones (cmake/ShellflowOptions.cmake)
   libeigen3-dev libbullet-dev libsuitesparse-dev nlohmann-json3-dev
   libgtest-dev libgmock-dev libbenchmark-dev libtbb-dev libspdlog-dev libcli11-dev
   libtinyobjloader-dev libassimp-dev libstb-dev libpng-dev libopenvdb-dev libboost-iostreams-dev

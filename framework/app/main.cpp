@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -165,6 +166,38 @@ int plugins_command(bool verbose) {
   return kExitOk;
 }
 
+// The parameter reference of every usable plugin, as Markdown (docs/plugins.md). Nothing
+// machine-specific is printed, so that the committed file can be compared with a build's.
+int plugins_markdown_command() {
+  rt::PluginRegistry registry(rt::PluginRegistry::default_search_dirs());
+  std::vector<const rt::PluginCandidate*> usable;
+  for (const auto& c : registry.candidates()) {
+    if (!c.library || !c.error.empty()) {
+      std::fprintf(stderr, "error: %s: %s\n", c.file.c_str(), c.error.c_str());
+      return kExitInputError;
+    }
+    if (c.shadowed_by.empty()) usable.push_back(&c);
+  }
+  std::sort(usable.begin(), usable.end(), [](const auto* a, const auto* b) {
+    return std::pair(rt::to_string(a->library->kind()), a->library->name()) <
+           std::pair(rt::to_string(b->library->kind()), b->library->name());
+  });
+  std::printf(
+      "# Plugin parameter reference\n\n"
+      "Generated from the plugins' schemas by `shellflow plugins --markdown > docs/plugins.md`;"
+      " do not edit by hand (a test fails when this file is stale). A scene names a plugin with"
+      " `\"plugin\": \"<name>\"` and gives the parameters below beside it.\n");
+  for (const auto* c : usable) {
+    const auto& lib = *c->library;
+    const auto& schema = lib.schema().json();
+    std::printf("\n## %s (%s)\n\n", lib.name().c_str(), rt::to_string(lib.kind()).c_str());
+    if (schema.contains("doc")) std::printf("%s\n\n", schema["doc"].get<std::string>().c_str());
+    const std::string params = rt::format_schema_markdown(schema);
+    std::printf("%s", params.empty() ? "No parameters.\n" : params.c_str());
+  }
+  return kExitOk;
+}
+
 int new_solid_command(const std::string& name, const std::string& dir_arg) {
   const std::string dir = dir_arg.empty() ? name : dir_arg;
   const auto files = shellflow::app::write_new_solid(name, dir);
@@ -222,7 +255,12 @@ int main(int argc, char** argv) {
 
   bool brief = false;
   auto* plugins = app.add_subcommand("plugins", "list the plugins found and their parameters");
+  bool markdown = false;
   plugins->add_flag("--brief", brief, "names only, no parameter docs");
+  plugins
+      ->add_flag("--markdown", markdown,
+                 "the parameter reference as Markdown, as in docs/plugins.md")
+      ->excludes("--brief");
 
   auto* make_new = app.add_subcommand("new", "write a new plugin project from a template");
   make_new->require_subcommand(1);
@@ -273,7 +311,7 @@ int main(int argc, char** argv) {
     if (run->parsed())
       return run_command(scene_file, frames, out, overwrite, checkpoint_every, resume);
     if (validate->parsed()) return validate_command(scene_file);
-    if (plugins->parsed()) return plugins_command(!brief);
+    if (plugins->parsed()) return markdown ? plugins_markdown_command() : plugins_command(!brief);
     if (new_solid->parsed()) return new_solid_command(new_name, new_dir);
     if (movie->parsed()) return movie_command(run_dir);
     if (plot->parsed()) return plot_command(run_dir, plot_columns);

@@ -13,6 +13,7 @@
 
 #include "scratch_folder.hpp"
 #include "shell_command.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow {
 namespace {
@@ -70,14 +71,16 @@ class Bench : public testing::ScratchFolder {
   void write_nan_solid_scene(const std::string& file) {
     write(file, std::string(R"({"time": {"fps": 24, "frames": 4},
     "plugin_path": [")") +
-                    SHELLFLOW_TEST_BAD_PLUGIN_DIR + R"(/run_doubles"],
+                    shellflow::test_paths::bad_plugin_dir() + R"(/run_doubles"],
     "solids": [{"plugin": "nan_solid", "name": "tri"}]})");
   }
   ShellResult bench(const std::string& args) {
-    return run_shell("cd '" + m_dir.string() + "' && OMP_NUM_THREADS=1 " + SHELLFLOW_CLI +
-                     " bench " + args);
+    return run_shell("cd '" + m_dir.string() + "' && OMP_NUM_THREADS=1 " +
+                     shellflow::test_paths::cli() + " bench " + args);
   }
 };
+/// Its long runs: labelled slow (tests/CMakeLists.txt).
+using BenchSlow = Bench;
 
 TEST_F(Bench, BlowUpIsRecordedAndTheSweepCarriesOn) {
   // A guard of 1 mm/s stops the falling plate in its first step (g Δt = 0.41 m/s): the
@@ -179,8 +182,8 @@ TEST_F(Bench, NeverWritesIntoAnotherFolderOrOverAFinishedBench) {
   EXPECT_EQ(bench("spec.json --out result --no-plots --overwrite").exit_code, 0);
 }
 
-TEST_F(Bench, SmallVersionOfEverySpecRuns) {
-  const fs::path specs = fs::path(SHELLFLOW_SOURCE_DIR) / "configs" / "bench";
+TEST_F(BenchSlow, SmallVersionOfEverySpecRuns) {
+  const fs::path specs = fs::path(shellflow::test_paths::source_dir()) / "configs" / "bench";
   const bool matplotlib = run_shell("/usr/bin/python3 -c 'import matplotlib'").exit_code == 0;
   int count = 0;
   for (const auto& entry : fs::directory_iterator(specs)) {

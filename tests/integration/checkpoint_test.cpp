@@ -17,6 +17,7 @@
 #include "shellflow/runtime/checkpoint.hpp"
 #include "shellflow/runtime/run_driver.hpp"
 #include "shellflow/sdk/error.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::runtime {
 namespace {
@@ -25,7 +26,7 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using Json = nlohmann::json;
 
-const fs::path kPlugins = SHELLFLOW_TEST_PLUGIN_DIR;
+const fs::path kPlugins = shellflow::test_paths::plugin_dir();
 
 /// Smoke from a source, a cloth and a dynamic Bullet shell, two-way coupled, on a 12^3
 /// grid: every kind of state a checkpoint must hold, in about a second per run.

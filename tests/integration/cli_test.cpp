@@ -12,6 +12,7 @@
 
 #include "scratch_folder.hpp"
 #include "shell_command.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow {
 namespace {
@@ -29,7 +30,7 @@ class Cli : public shellflow::testing::ScratchFolder {
   Result shellflow_in(const fs::path& dir, const std::string& args) { return run_in(dir, args); }
   Result run_in(const fs::path& dir, const std::string& args) {
     const std::string cd = dir.empty() ? "" : "cd '" + dir.string() + "' && ";
-    return shellflow::testing::run_shell(cd + std::string(SHELLFLOW_CLI) + " " + args);
+    return shellflow::testing::run_shell(cd + shellflow::test_paths::cli() + " " + args);
   }
   std::string scene(const std::string& body) { return write("scene.json", body).string(); }
 };
@@ -123,7 +124,8 @@ TEST_F(Cli, CtrlCEndsTheRunWithAReadableLastFrame) {
   ASSERT_GE(pid, 0);
   if (pid == 0) {
     freopen("/dev/null", "w", stderr);
-    execl(SHELLFLOW_CLI, SHELLFLOW_CLI, "run", file.c_str(), "--out", out.c_str(), nullptr);
+    execl(shellflow::test_paths::cli().c_str(), shellflow::test_paths::cli().c_str(), "run",
+          file.c_str(), "--out", out.c_str(), nullptr);
     _exit(127);
   }
   // Wait until frame 1 exists, then interrupt.

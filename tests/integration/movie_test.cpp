@@ -12,6 +12,7 @@
 
 #include "scratch_folder.hpp"
 #include "shell_command.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow {
 namespace {
@@ -39,7 +40,8 @@ class Movie : public testing::ScratchFolder {
   /// Runs the scene in m_dir; `env` prefixes the command (as PATH=...).
   Result run(const std::string& env = "") {
     write("scene.json", kScene);
-    return sh("cd '" + m_dir.string() + "' && " + env + " " + SHELLFLOW_CLI + " run scene.json");
+    return sh("cd '" + m_dir.string() + "' && " + env + " " + shellflow::test_paths::cli() +
+              " run scene.json");
   }
   fs::path out() const { return m_dir / "out" / "drop"; }
 };
@@ -52,16 +54,16 @@ TEST_F(Movie, WithoutFfmpegTheRunEndsWithANoteAndSucceeds) {
   EXPECT_FALSE(fs::exists(out() / "preview.mp4"));
   EXPECT_THAT(r.output, HasSubstr("note: ffmpeg is not on PATH, so no preview.mp4"));
   const auto m =
-      sh("PATH=/nonexistent " + std::string(SHELLFLOW_CLI) + " movie '" + out().string() + "'");
+      sh("PATH=/nonexistent " + shellflow::test_paths::cli() + " movie '" + out().string() + "'");
   EXPECT_EQ(m.exit_code, 1) << m.output;
   EXPECT_THAT(m.output, HasSubstr("ffmpeg is not on PATH"));
 }
 
 TEST_F(Movie, MovieOfAFolderThatIsNoRunNamesTheProblem) {
-  auto r = sh(std::string(SHELLFLOW_CLI) + " movie '" + (m_dir / "nope").string() + "'");
+  auto r = sh(shellflow::test_paths::cli() + " movie '" + (m_dir / "nope").string() + "'");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.output, HasSubstr("run folder not found"));
-  r = sh(std::string(SHELLFLOW_CLI) + " movie '" + m_dir.string() + "'");
+  r = sh(shellflow::test_paths::cli() + " movie '" + m_dir.string() + "'");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_THAT(r.output, HasSubstr("has no run.json"));
 }
@@ -93,7 +95,7 @@ TEST_F(Movie, RunEndsWithAnH264MovieOfEveryPreviewAtTheRunsFps) {
 
   // `shellflow movie` makes it again afterwards.
   fs::remove(out() / "preview.mp4");
-  const auto m = sh(std::string(SHELLFLOW_CLI) + " movie '" + out().string() + "'");
+  const auto m = sh(shellflow::test_paths::cli() + " movie '" + out().string() + "'");
   EXPECT_EQ(m.exit_code, 0) << m.output;
   EXPECT_THAT(m.output, HasSubstr("5 previews"));
   p = probe();
@@ -102,7 +104,7 @@ TEST_F(Movie, RunEndsWithAnH264MovieOfEveryPreviewAtTheRunsFps) {
   // line counting the frames ffmpeg has encoded, up to all of them.
   EXPECT_THAT(m.output, Not(HasSubstr("encoding preview.mp4")));
   if (have("script")) {
-    const auto t = sh("script -qec \"" + std::string(SHELLFLOW_CLI) + " movie '" +
+    const auto t = sh("script -qec \"" + shellflow::test_paths::cli() + " movie '" +
                       out().string() + "'\" /dev/null");
     EXPECT_EQ(t.exit_code, 0) << t.output;
     EXPECT_THAT(t.output, HasSubstr("encoding preview.mp4: frame 5 of 5"));

@@ -10,6 +10,7 @@
 
 #include "scratch_folder.hpp"
 #include "shell_command.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow {
 namespace {
@@ -28,10 +29,13 @@ class Plot : public testing::ScratchFolder {
     ScratchFolder::SetUp();
     write("scene.json", R"({"name": "drop", "time": {"fps": 24, "frames": 6},
       "solids": [{"plugin": "template_solid", "name": "plate", "nodes": 3}]})");
-    const auto r = sh("cd '" + m_dir.string() + "' && " + SHELLFLOW_CLI + " run scene.json");
+    const auto r =
+        sh("cd '" + m_dir.string() + "' && " + shellflow::test_paths::cli() + " run scene.json");
     ASSERT_EQ(r.exit_code, 0) << r.output;
   }
-  Result plot(const std::string& args) { return sh(std::string(SHELLFLOW_CLI) + " plot " + args); }
+  Result plot(const std::string& args) {
+    return sh(shellflow::test_paths::cli() + " plot " + args);
+  }
   fs::path out() const { return m_dir / "out" / "drop"; }
 };
 

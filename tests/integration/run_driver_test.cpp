@@ -12,6 +12,7 @@
 #include "scratch_folder.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
 #include "shellflow/sdk/error.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::runtime {
 namespace {
@@ -20,8 +21,8 @@ namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 using Json = nlohmann::json;
 
-const fs::path kPlugins = SHELLFLOW_TEST_PLUGIN_DIR;
-const fs::path kDoubles = fs::path(SHELLFLOW_TEST_BAD_PLUGIN_DIR) / "run_doubles";
+const fs::path kPlugins = shellflow::test_paths::plugin_dir();
+const fs::path kDoubles = fs::path(shellflow::test_paths::bad_plugin_dir()) / "run_doubles";
 
 class RunDriver : public shellflow::testing::ScratchFolder {
  protected:

@@ -13,11 +13,12 @@
 #include "shellflow/runtime/plugin_instance.hpp"
 #include "shellflow/runtime/scene.hpp"
 #include "shellflow/sdk/metrics.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::runtime {
 namespace {
 
-const std::filesystem::path kPlugins = SHELLFLOW_TEST_PLUGIN_DIR;
+const std::filesystem::path kPlugins = shellflow::test_paths::plugin_dir();
 
 /// The plugins of a scene and the §6 loop over them.
 struct SceneRun {
@@ -142,6 +143,8 @@ class TwoWayScenes : public shellflow::testing::ScratchFolder {
     }
   }
 };
+/// Its long runs: labelled slow (tests/CMakeLists.txt).
+using TwoWayScenesSlow = TwoWayScenes;
 
 TEST_F(TwoWayScenes, CurtainPinnedAtItsTopInStillAirStaysStill) {
   // No gravity, still air, a cloth at rest at its rest shape: nothing may move it. Any
@@ -204,7 +207,7 @@ TEST_F(TwoWayScenes, ClosedBoxWithClothAndRigidShellLosesEnergyAndReportsMomentu
   EXPECT_LE(e_max, e0 * 1.01);
 }
 
-TEST_F(TwoWayScenes, OpenBoatFloatsUntilAStreamFillsItThenSinksToTheFloor) {
+TEST_F(TwoWayScenesSlow, OpenBoatFloatsUntilAStreamFillsItThenSinksToTheFloor) {
   // Fig. 7 at test size: a Bullet boat_hull (0.6 m long, 0.3 m in the beam, 0.12 m deep,
   // 20 kg/m², 5 kg) dropped into 0.3 m of water floats on nothing but the §5.1 pressure
   // (its hull keeps the air out), and a stream from t = 0.5 s fills it: full of water it
@@ -255,7 +258,7 @@ TEST_F(TwoWayScenes, OpenBoatFloatsUntilAStreamFillsItThenSinksToTheFloor) {
   EXPECT_LT(gunwale, 0.3);
 }
 
-TEST_F(TwoWayScenes, ALightCurtainInAWaterJetIsPushedAndTheWaterKept) {
+TEST_F(TwoWayScenesSlow, ALightCurtainInAWaterJetIsPushedAndTheWaterKept) {
   // Fig. 1 at test size (PhysBAM's Thin_Shells_Test_Water example 12 at 32 cells, 21 × 26
   // cloth nodes): a 4 m/s jet of water, 0.25 m in radius, onto a 2 × 2.5 m curtain of
   // 1 kg/m² hung by its top corners, walls on every side but the top, for 0.6 s (after
@@ -378,7 +381,7 @@ TEST_F(TwoWayScenes, ClothDensitySweepInAStreamStaysFinite) {
                       1.0 / 16.0, 30, "air");
 }
 
-TEST_F(TwoWayScenes, ClothInAWaterJetStaysFiniteOverTheDensitySweep) {
+TEST_F(TwoWayScenesSlow, ClothInAWaterJetStaysFiniteOverTheDensitySweep) {
   // The cloth sweep above with water: a 2 m/s jet (no gravity, so that only the coupling
   // acts) onto a curtain pinned along its top edge, σ from 1000× lighter to 1000× heavier
   // than ρΔx (62.5 kg/m² at 16 cells), at two step sizes, 60 steps (the jet reaches the

@@ -16,6 +16,7 @@
 #include "logged_messages.hpp"
 #include "shellflow/runtime/run_driver.hpp"
 #include "shellflow/runtime/scene.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::testing {
 
@@ -54,7 +55,7 @@ class MeshCheckScene : public ::testing::Test {
   runtime::ScenePlugins construct(const std::string& obj, const std::string& solid_json) {
     std::ofstream(m_dir / "mesh.obj") << obj;
     std::ofstream(scene_file()) << R"({"solids": [)" << solid_json << "]}";
-    const auto scene = runtime::load_scene(scene_file(), {SHELLFLOW_TEST_PLUGIN_DIR});
+    const auto scene = runtime::load_scene(scene_file(), {shellflow::test_paths::plugin_dir()});
     return runtime::construct_plugins(scene);
   }
   /// The refusal construct() ends with (fails the test if it constructs).

@@ -7,6 +7,7 @@
 #include <fstream>
 
 #include "shellflow/sdk/error.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::bullet_rigid {
 namespace {
@@ -199,7 +200,7 @@ TEST(BulletRigidSolver, ReportAndSaveRestoreThroughTheInterface) {
 
 TEST(BulletRigidSolver, TheFallingShellsSceneBuilds) {
   // configs/rigid_shells_falling.json, as the harness will pass it (defaults filled).
-  std::ifstream file(SHELLFLOW_SOURCE_DIR "/configs/rigid_shells_falling.json");
+  std::ifstream file(shellflow::test_paths::source_dir() + "/configs/rigid_shells_falling.json");
   ASSERT_TRUE(file) << "configs/rigid_shells_falling.json is missing";
   const json scene = json::parse(file);
   const json& solid = scene.at("solids").at(0);

@@ -12,6 +12,7 @@
 #include <sstream>
 #include <string>
 #include <vector>
+#include "test_paths.hpp"
 
 namespace {
 
@@ -69,7 +70,8 @@ TEST(RigidShellsFallingScene, RunsAndComesToRestOnTheGround) {
   const fs::path out =
       fs::temp_directory_path() / ("shellflow_rigid_" + std::to_string(::getpid()));
   fs::remove_all(out);
-  const std::string command = std::string(SHELLFLOW_CLI) + " run " + SHELLFLOW_SOURCE_DIR +
+  const std::string command = shellflow::test_paths::cli() + " run " +
+                              shellflow::test_paths::source_dir() +
                               "/configs/rigid_shells_falling.json --out " + out.string() + " > " +
                               (out.string() + ".log") + " 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << command;

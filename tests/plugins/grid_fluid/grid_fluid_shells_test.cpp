@@ -13,6 +13,7 @@
 #include "shellflow/kinematic_shell/kinematic_shell.hpp"
 #include "shellflow/runtime/scene.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::grid_fluid {
 namespace {
@@ -51,8 +52,8 @@ struct SceneRun {
 /// from the core libraries.
 SceneRun load(const std::string& name, const std::function<void(nlohmann::json&)>& edit = nullptr) {
   SceneRun run;
-  run.scene = runtime::load_scene(std::string(SHELLFLOW_SOURCE_DIR) + "/configs/verify/" + name,
-                                  {SHELLFLOW_TEST_PLUGIN_DIR});
+  run.scene = runtime::load_scene(shellflow::test_paths::source_dir() + "/configs/verify/" + name,
+                                  {shellflow::test_paths::plugin_dir()});
   if (edit) edit(run.scene.fluid->params);
   sdk::Context context;
   context.gravity = run.scene.gravity;
@@ -118,7 +119,7 @@ TEST(GridFluidShells, SealedPlateTranslatingAndRotatingLeaksNothing) {
   EXPECT_NEAR(std::acos(std::clamp(n.x(), -1.0, 1.0)) * 180.0 / std::numbers::pi, 30.0, 1e-6);
 }
 
-TEST(GridFluidShells, SealedWavyDeformingSheetLeaksNothing) {
+TEST(GridFluidShellsSlow, SealedWavyDeformingSheetLeaksNothing) {
   auto run = load("smoke_sealed_wavy_sheet.json");
   const double tol = run.scene.fluid->params.at("pressure").at("tolerance").get<double>();
   // The sheet's rest plane is x = 0.5 (normal +x after the transform); the wave moves its
@@ -292,7 +293,7 @@ TEST(GridFluidShells, EnclosedMovingPocketSolvesEveryStep) {
   EXPECT_LE(outside, 1e-9 * inside);
 }
 
-TEST(GridFluidShells, WaterInAShakenCupMakesNoWater) {
+TEST(GridFluidShellsSlow, WaterInAShakenCupMakesNoWater) {
   // configs/verify/water_sloshing_cup at 32 cells across (the cup 4 cells in radius), the
   // level set alone, 5 s: the cup moves ±0.02 m (0.64Δx) sideways once a second and the
   // water sloshes below its rim. Air nodes next to the wall whose extrapolated velocity

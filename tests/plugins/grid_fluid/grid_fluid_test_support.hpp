@@ -19,6 +19,7 @@
 #include "shellflow/runtime/schema_validator.hpp"
 #include "shellflow/sdk/metrics.hpp"
 #include "shellflow/sdk/solid_solver.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::grid_fluid::test {
 
@@ -51,7 +52,6 @@ inline std::unique_ptr<GridFluid> make_fluid(nlohmann::json params,
   return std::make_unique<GridFluid>(validated(std::move(params)), context);
 }
 
-#ifdef SHELLFLOW_TEST_PLUGIN_DIR  // defined for the test executables, not this support library
 /// The scene file name validate_refusal() gives its scenes (it is never read or written).
 inline constexpr const char* kRefusedScene = "refused_scene.json";
 
@@ -65,14 +65,13 @@ inline std::string validate_refusal(nlohmann::json fluid) {
   try {
     // As validate does: load_scene's checks, then every plugin constructed.
     runtime::construct_plugins(
-        runtime::parse_scene(scene.dump(), kRefusedScene, {SHELLFLOW_TEST_PLUGIN_DIR}));
+        runtime::parse_scene(scene.dump(), kRefusedScene, {shellflow::test_paths::plugin_dir()}));
   } catch (const SceneError& e) {
     return e.what();
   }
   ADD_FAILURE() << "the scene was accepted: " << scene.dump();
   return "";
 }
-#endif
 
 /// A square plate of side `size` centred at `center` with unit normal `normal`.
 /// (Defined in grid_fluid_test_support.cpp: Eigen's FromTwoVectors costs each file that

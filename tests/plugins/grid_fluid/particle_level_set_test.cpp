@@ -117,7 +117,7 @@ TEST(LevelSetAdvection, ASphereTurningRigidlyKeepsItsVolume) {
   EXPECT_LT(std::abs(change_maccormack), 0.05);
 }
 
-TEST(ParticleLevelSet, ZalesakSphereKeepsItsVolumeWithParticles) {
+TEST(ParticleLevelSetSlow, ZalesakSphereKeepsItsVolumeWithParticles) {
   // The issue's 50^3 suite version of Zalesak's test (the 100^3 one is a bench case).
   // Enright et al. 2002 (their table 3, 100^3): the particle level set keeps the slotted
   // sphere's volume to a few per cent where the level set alone loses a large part of it;
@@ -193,7 +193,7 @@ DamRun run_dam(GridFluid& f, double x0, double speed, double duration) {
   return worst;
 }
 
-TEST(ParticleLevelSet, WaterSloshingAgainstASealingPlateNeverReachesTheDrySide) {
+TEST(ParticleLevelSetSlow, WaterSloshingAgainstASealingPlateNeverReachesTheDrySide) {
   // The issue's sealed tank: a column x < 0.25, 0.8 high, collapses onto a plate that
   // seals the 16^3 tank at x = 0.5 + Δx/3 (between node planes), hits it at about 1.5 m/s
   // and runs up it, for 1 s; the plate still, then moving into the water at 0.05 m/s.
@@ -377,7 +377,7 @@ double water_spreading_on_a_shelf(int per_cell, double duration) {
   return (fluid->liquid()->level_set().volume() - v0) / v0;
 }
 
-TEST(ParticleLevelSet, WaterSpreadingOnAShelfKeepsThreeFifthsOfItAloneAndWithParticles) {
+TEST(ParticleLevelSetSlow, WaterSpreadingOnAShelfKeepsThreeFifthsOfItAloneAndWithParticles) {
   // A block of water spreading into a film on a shelf that spans the tank, between node
   // planes. The particle level set issue asks 5 % here; unmet: a film thinner than the
   // shelf's distance to the next node plane has no wet node, and its particles escape
@@ -399,7 +399,7 @@ TEST(ParticleLevelSet, WaterSpreadingOnAShelfKeepsThreeFifthsOfItAloneAndWithPar
   EXPECT_GT(particles, -0.4);
 }
 
-TEST(ParticleLevelSet, StillPoolCutByATiltedPlateStaysNearlyStillWithParticles) {
+TEST(ParticleLevelSetSlow, StillPoolCutByATiltedPlateStaysNearlyStillWithParticles) {
   // The water core's still pool pierced by a static tilted plate (water_test) with 16
   // particles per cell, 200 steps of 0.01 s. Water particles kept their collision distance
   // off the plate must not be moved out of the water: pushed above the surface they became

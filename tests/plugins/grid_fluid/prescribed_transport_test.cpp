@@ -225,7 +225,7 @@ Deformation deform(int cells, int per_cell) {
   return out;
 }
 
-TEST(PrescribedVelocity, LeVequeDeformationKeepsMoreWaterWithParticles) {
+TEST(PrescribedVelocitySlow, LeVequeDeformationKeepsMoreWaterWithParticles) {
   const Deformation alone = deform(32, 0);
   const Deformation particles = deform(32, 16);
   std::printf(

@@ -343,7 +343,7 @@ FilmRun film_run(int cells, double thickness, int per_cell) {
   return {fluid->liquid()->initial_volume() / v0, test::reported(*fluid, "water_volume") / v0};
 }
 
-TEST(ShellFilm, FilmThinnerThanACellKeepsItsWaterWhileCarriedAlongATiltedPlate) {
+TEST(ShellFilmSlow, FilmThinnerThanACellKeepsItsWaterWhileCarriedAlongATiltedPlate) {
   // The flow turns the film within the plate's plane, so the known answer is no change
   // of volume. A film 0.6Δx thick has no wet node; read across the plate with constant
   // continuation (its dry nodes' φ taken for the water's, as before linear continuation)

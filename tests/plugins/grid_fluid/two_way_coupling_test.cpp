@@ -147,7 +147,7 @@ std::vector<double> thrown_plate_energies(double sigma, double cfl, int steps) {
   return energy;
 }
 
-TEST(TwoWayCoupling, DensityAndStepSweepRecordsWhereTheStaggeredSchemeIsStable) {
+TEST(TwoWayCouplingSlow, DensityAndStepSweepRecordsWhereTheStaggeredSchemeIsStable) {
   // σ from 1000× lighter to 1000× heavier than ρΔx, the fluid mass per unit area of one
   // cell layer (what the §5.1 face density σ/Δx is compared with), at three CFL numbers.
   // Stable: finite for 60 steps and the energy never rises more than 1% above its value

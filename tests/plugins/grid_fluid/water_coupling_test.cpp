@@ -209,7 +209,7 @@ TEST_P(HeldHeeledBox, FeelsTheMomentOfTheWaterItKeepsOut) {
 
 INSTANTIATE_TEST_SUITE_P(WaterCoupling, HeldHeeledBox, ::testing::Values(0.0, 4.0, 10.0, -10.0));
 
-TEST(WaterCoupling, FreeBoxFloatsAtTheDraftItsMassImplies) {
+TEST(WaterCouplingSlow, FreeBoxFloatsAtTheDraftItsMassImplies) {
   // Archimedes with nothing but the §5.1 pressure, the box one rigid body in the solve
   // (sdk::RigidBody): an open box of mass M floats where the water it keeps out weighs M,
   // draft d = M/(ρ a²) below the water level around it. Released a cell higher, it heaves
@@ -261,7 +261,7 @@ TEST(WaterCoupling, FreeBoxFloatsAtTheDraftItsMassImplies) {
   EXPECT_LE(last_speed, 0.01 * std::sqrt(kG * dx));
 }
 
-TEST(WaterCoupling, FreeBoxIsStableOverTheDensitySweep) {
+TEST(WaterCouplingSlow, FreeBoxIsStableOverTheDensitySweep) {
   // The smoke coupling's sweep in water: the open box free to heave, σ from 10⁻³ to 10³ times
   // ρΔx (the water's mass per unit area of one cell layer, 31.25 kg/m² here), at CFL 0.5 and
   // 2 with the step up to 0.02 s, over 0.25 s, released a cell above the draft of 37.5 kg/m²: the

@@ -301,7 +301,7 @@ CupPose tipping(double time) {
   return p;
 }
 
-TEST(WaterCup, TippedCupPoursItsWaterOut) {
+TEST(WaterCupSlow, TippedCupPoursItsWaterOut) {
   // The pour is a stream a cell or two thick falling 0.26 m to the floor: the trilinear φ
   // step loses it on the way (measured: 92% of the water gone, none on the floor), so this
   // case runs MacCormack's φ step (measured: 16% lost, 312 nodes of water on the floor);

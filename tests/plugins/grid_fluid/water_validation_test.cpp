@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "grid_fluid_test_support.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::grid_fluid {
 namespace {
@@ -184,7 +185,7 @@ TEST(WaterValidation, StandingWavePeriodFollowsLinearTheoryAt32CellsPerWavelengt
   EXPECT_LT(std::abs(standing_wave_sweep(32, "32")), 0.02);
 }
 
-TEST(WaterValidation, StandingWavePeriodFollowsLinearTheoryAt64CellsPerWavelength) {
+TEST(WaterValidationSlow, StandingWavePeriodFollowsLinearTheoryAt64CellsPerWavelength) {
   // The 2% bound at twice its resolution (measured: −0.47 to +0.18% over the sweep,
   // −0.49 to +0.14% with the node's own velocity along φ's rays,
   // −0.2 to +1.5% with constant extrapolation; the volume drift at most 1.3e-4 of itself
@@ -222,7 +223,7 @@ struct Sample {
 
 /// Martin and Moyce (1952), Table 2 (n² = 2): see the citation in the file.
 std::vector<Sample> martin_moyce() {
-  std::ifstream in(SHELLFLOW_SOURCE_DIR "/tests/data/martin_moyce_1952.csv");
+  std::ifstream in(shellflow::test_paths::source_dir() + "/tests/data/martin_moyce_1952.csv");
   std::vector<Sample> rows;
   std::string line;
   while (std::getline(in, line)) {

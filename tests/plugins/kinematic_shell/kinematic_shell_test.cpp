@@ -13,6 +13,7 @@
 
 #include "shellflow/kinematic_shell/keyframe_motion.hpp"
 #include "shellflow/sdk/plugin.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::kinematic_shell {
 namespace {
@@ -209,7 +210,7 @@ TEST(KinematicShell, SchemaDocumentsEveryParameter) {
 
 TEST(KinematicShellPlugin, EntryPointDescribesAndCreatesTheSolid) {
   const auto file =
-      std::filesystem::path(SHELLFLOW_TEST_PLUGIN_DIR) / "shellflow_kinematic_shell.so";
+      std::filesystem::path(shellflow::test_paths::plugin_dir()) / "shellflow_kinematic_shell.so";
   void* library = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
   ASSERT_NE(library, nullptr) << dlerror();
   const auto entry = reinterpret_cast<ShellflowPluginEntry>(dlsym(library, SHELLFLOW_ENTRY_SYMBOL));

@@ -13,6 +13,7 @@
 #include <sstream>
 #include <string>
 #include <vector>
+#include "test_paths.hpp"
 
 namespace {
 
@@ -31,8 +32,9 @@ class KinematicVerify : public ::testing::Test {
   void TearDown() override { fs::remove_all(m_out); }
 
   void run(const std::string& scene) {
-    const std::string command = std::string(SHELLFLOW_CLI) + " run " + SHELLFLOW_SOURCE_DIR +
-                                "/configs/verify/" + scene + " --out " + m_out.string() + " > " +
+    const std::string command = shellflow::test_paths::cli() + " run " +
+                                shellflow::test_paths::source_dir() + "/configs/verify/" + scene +
+                                " --out " + m_out.string() + " > " +
                                 (fs::temp_directory_path() / "shellflow_kv.log").string() + " 2>&1";
     ASSERT_EQ(std::system(command.c_str()), 0) << command;
   }

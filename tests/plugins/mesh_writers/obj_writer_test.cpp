@@ -10,6 +10,7 @@
 
 #include "mesh_writer_fixture.hpp"
 #include "shellflow/sdk/plugin.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::mesh_output::testing {
 namespace {
@@ -72,7 +73,8 @@ TEST(WriteObj, CoordinatesRoundTripAsDoublesBitForBit) {
 }
 
 TEST(ObjWriterPlugin, EntryPointCreatesTheWriter) {
-  const auto file = std::filesystem::path(SHELLFLOW_TEST_PLUGIN_DIR) / "shellflow_obj_writer.so";
+  const auto file =
+      std::filesystem::path(shellflow::test_paths::plugin_dir()) / "shellflow_obj_writer.so";
   void* library = dlopen(file.c_str(), RTLD_NOW | RTLD_LOCAL);
   ASSERT_NE(library, nullptr) << dlerror();
   const auto entry = reinterpret_cast<ShellflowPluginEntry>(dlsym(library, SHELLFLOW_ENTRY_SYMBOL));

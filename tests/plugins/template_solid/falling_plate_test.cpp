@@ -7,12 +7,13 @@
 
 #include "scratch_folder.hpp"
 #include "shellflow/runtime/plugin_instance.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow {
 namespace {
 
 namespace fs = std::filesystem;
-const fs::path kPlugins = SHELLFLOW_TEST_PLUGIN_DIR;
+const fs::path kPlugins = shellflow::test_paths::plugin_dir();
 
 // Translation is integrated exactly for a constant force, so free fall matches the
 // analytic parabola to round-off of O(1) numbers summed over ~100 steps.

@@ -10,6 +10,7 @@
 #include "shellflow/bench/bench_spec.hpp"
 #include "shellflow/bench/sweep_plan.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::bench {
 namespace {
@@ -17,7 +18,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const fs::path kPlugins = SHELLFLOW_TEST_PLUGIN_DIR;
+const fs::path kPlugins = shellflow::test_paths::plugin_dir();
 
 class BenchSpecFiles : public ::testing::Test {
  protected:

@@ -12,6 +12,7 @@
 #include "shellflow/bench/bench_report.hpp"
 #include "shellflow/bench/error_measures.hpp"
 #include "shellflow/bench/run_outputs.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::bench {
 namespace {
@@ -155,8 +156,8 @@ TEST(ErrorMeasures, LeakFractionIsTheWorstShareBeyondTheShell) {
 }
 
 TEST(ErrorMeasures, DamBreakFrontTenPercentAheadOfMartinAndMoyce) {
-  const auto data =
-      read_front_data(fs::path(SHELLFLOW_SOURCE_DIR) / "tests/data/martin_moyce_1952.csv");
+  const auto data = read_front_data(fs::path(shellflow::test_paths::source_dir()) /
+                                    "tests/data/martin_moyce_1952.csv");
   ASSERT_GE(data.size(), 10u);
   // A front exactly 10% ahead of every data point (samples at their own T, so the linear
   // interpolation is exact there): the error is 0.1.

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "shellflow/sdk/error.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::runtime {
 namespace {
@@ -15,8 +16,8 @@ namespace fs = std::filesystem;
 using ::testing::AllOf;
 using ::testing::HasSubstr;
 
-const fs::path kPlugins = SHELLFLOW_TEST_PLUGIN_DIR;
-const fs::path kBad = SHELLFLOW_TEST_BAD_PLUGIN_DIR;
+const fs::path kPlugins = shellflow::test_paths::plugin_dir();
+const fs::path kBad = shellflow::test_paths::bad_plugin_dir();
 
 std::string load_error(PluginRegistry& registry, const std::string& what, PluginKind kind) {
   try {

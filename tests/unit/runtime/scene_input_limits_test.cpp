@@ -11,6 +11,7 @@
 #include "shellflow/runtime/scene.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
 #include "shellflow/sdk/error.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::runtime {
 namespace {
@@ -18,7 +19,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const fs::path kPlugins = SHELLFLOW_TEST_PLUGIN_DIR;
+const fs::path kPlugins = shellflow::test_paths::plugin_dir();
 // parse_scene never reads it; relative paths resolve next to it, in a folder that exists
 // (under a missing folder the system says "no such file" before "name too long").
 const fs::path kSceneFile = fs::temp_directory_path() / "shellflow_limits_test.json";

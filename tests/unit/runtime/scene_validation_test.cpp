@@ -9,6 +9,7 @@
 #include "shellflow/runtime/plugin_instance.hpp"
 #include "shellflow/runtime/scene.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
+#include "test_paths.hpp"
 
 namespace shellflow::runtime {
 namespace {
@@ -16,7 +17,7 @@ namespace {
 namespace fs = std::filesystem;
 using ::testing::HasSubstr;
 
-const fs::path kPlugins = SHELLFLOW_TEST_PLUGIN_DIR;
+const fs::path kPlugins = shellflow::test_paths::plugin_dir();
 
 class SceneFiles : public ::testing::Test {
  protected:
