@@ -27,7 +27,9 @@ set(SHELLFLOW_SANITIZE_COMPILE_OPTIONS
     -fno-omit-frame-pointer -fsanitize=address,undefined -fno-sanitize-recover=undefined)
 set(SHELLFLOW_SANITIZE_LINK_OPTIONS -fsanitize=address,undefined)
 list(JOIN SHELLFLOW_SANITIZE_COMPILE_OPTIONS " " _sanitize_compile_flags)
-set(CMAKE_CXX_FLAGS_SANITIZE "-O1 -g ${_sanitize_compile_flags}"
+# -g1: line tables only, what a sanitizer's stack trace reads (full -g made CI's sanitizer
+# build slower to compile and link for no line of a report).
+set(CMAKE_CXX_FLAGS_SANITIZE "-O1 -g1 ${_sanitize_compile_flags}"
     CACHE STRING "Flags for the Sanitize build type" FORCE)
 set(CMAKE_EXE_LINKER_FLAGS_SANITIZE "${SHELLFLOW_SANITIZE_LINK_OPTIONS}" CACHE STRING "" FORCE)
 set(CMAKE_SHARED_LINKER_FLAGS_SANITIZE "${SHELLFLOW_SANITIZE_LINK_OPTIONS}" CACHE STRING "" FORCE)
