@@ -7,11 +7,14 @@ set(CMAKE_POSITION_INDEPENDENT_CODE ON)
 set(CMAKE_EXPORT_COMPILE_COMMANDS ON)
 
 # ccache, when installed (scripts/setup.sh installs it), so that rebuilds in a session and CI's
-# build after it reuse objects. base_dir makes the cache key relative to the source root, so a
-# clone in another folder hits too; the sloppiness lets precompiled headers be cached.
+# build after it reuse objects. base_dir makes the cache key relative to the source root and
+# NOHASHDIR keeps the build folder out of it where there is debug information (the Sanitize
+# build's line tables), so a clone in another folder hits too; the sloppiness lets
+# precompiled headers be cached.
 find_program(SHELLFLOW_CCACHE ccache)
 if(SHELLFLOW_CCACHE AND NOT CMAKE_CXX_COMPILER_LAUNCHER)
   set(CMAKE_CXX_COMPILER_LAUNCHER ${CMAKE_COMMAND} -E env CCACHE_BASEDIR=${PROJECT_SOURCE_DIR}
+      CCACHE_NOHASHDIR=1
       CCACHE_SLOPPINESS=pch_defines,time_macros,include_file_mtime,include_file_ctime
       ${SHELLFLOW_CCACHE})
 endif()
