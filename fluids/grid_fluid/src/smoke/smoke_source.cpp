@@ -133,7 +133,7 @@ void SmokeSource::require_in_domain(const grid::UniformGrid& grid, const std::st
   throw outside_domain(grid, json_path,
                        fmt::format("the {} emitter (bounds {})", kNames[static_cast<int>(m_shape)],
                                    box_text(bounds())),
-                       consequence, kMoveIntoDomain);
+                       consequence, kMoveInsideDomain);
 }
 
 grid::IndexBox SmokeSource::bounding_samples(const grid::UniformGrid& grid, grid::Location loc,

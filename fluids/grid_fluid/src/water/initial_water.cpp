@@ -148,7 +148,7 @@ void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up
     // a face, fills no cell), and what it is and where, for the message if not.
     bool reaches = false;
     std::string shape;
-    std::string fix = kMoveIntoDomain;
+    std::string fix = kMoveInsideDomain;
     std::optional<geometry::SurfaceMesh> surface;
     if (type == "pool") {
       const double height = spec.at("height").get<double>();

@@ -36,7 +36,7 @@ ConfigError outside_domain(const grid::UniformGrid& grid, const std::string& jso
                            const std::string& fix);
 
 /// The fix of a shape that adds or removes water or smoke: it must share a volume.
-inline constexpr const char* kMoveIntoDomain =
+inline constexpr const char* kMoveInsideDomain =
     "move it (or the domain) so that the two share a volume (touching a face is not enough), "
     "or remove it";
 
