@@ -357,8 +357,8 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
 
   if (m_prescribed) {
     // The field at the middle of the step carries φ and the particles; nothing else moves.
-    sample_prescribed(t + 0.5 * dt, false);
-    m_liquid->advect(t, m_nodes, dt, geom_n, band);
+    sample_prescribed(t + 0.5 * dt, m_liquid->cell_centred());  // cells trace the faces
+    m_liquid->advect(t, m_nodes, m_mac, dt, geom_n, band);
   } else {
     // 1. §4.2 faces → nodes (already done at the end of the last projection, same shells).
     if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band);
@@ -367,7 +367,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
     m_advector.advect(
         m_nodes, m_next, dt, geom_n, band,
         m_liquid ? m_liquid->velocity_nodes(t, dt, speed) : std::span<const std::uint8_t>());
-    if (m_liquid) m_liquid->advect(t, m_nodes, dt, geom_n, band);
+    if (m_liquid) m_liquid->advect(t, m_nodes, m_mac, dt, geom_n, band);
     std::swap(m_nodes, m_next);  // m_next keeps the fields at n: u^n for step 5
 
     // 3. Water: gravity on the nodes (§4.1), emitters; smoke: sources and body forces.
@@ -633,7 +633,10 @@ std::vector<sdk::FieldView> GridFluid::fields() const {
   };
   using L = sdk::FieldView::Location;
   std::vector<sdk::FieldView> out;
-  if (m_liquid)
+  if (m_liquid && m_liquid->cell_centred())
+    out.push_back(view("phi", L::Cell, Location::Cell,
+                       {m_liquid->level_set().phi().data(), nullptr, nullptr}, 1));
+  else if (m_liquid)
     out.push_back(view("phi", L::Node, Location::Node,
                        {m_liquid->level_set().phi().data(), nullptr, nullptr}, 1));
   else
@@ -686,8 +689,12 @@ std::optional<std::string> GridFluid::find_nonfinite() const {
   };
   if (const auto i = scan(m_nodes.density()); i >= 0) return node_report("density", i);
   if (m_liquid)
-    if (const auto i = scan(m_liquid->level_set().phi()); i >= 0)
-      return node_report("level set phi", i);
+    if (const auto i = scan(m_liquid->level_set().phi()); i >= 0) {
+      if (!m_liquid->cell_centred()) return node_report("level set phi", i);
+      const Eigen::Vector3i ijk = m_mac.grid().coordinates(Location::Cell, i);
+      return "level set phi at cell (" + std::to_string(ijk.x()) + ", " + std::to_string(ijk.y()) +
+             ", " + std::to_string(ijk.z()) + ")";
+    }
   if (const auto i = scan(m_nodes.temperature()); i >= 0) return node_report("temperature", i);
   if (const auto i = scan(m_mac.pressure()); i >= 0) return "pressure at cell " + std::to_string(i);
   return std::nullopt;

@@ -89,8 +89,9 @@ Revolution one_revolution(int cells, int per_cell, const char* advection = "semi
   const int steps = static_cast<int>(std::ceil(Zalesak::kPeriod * max_speed / (0.5 * grid.dx())));
   const double dt = Zalesak::kPeriod / steps;
   double t = 0.0;
+  const MacGrid unread(grid);  // φ on nodes follows the node velocities
   for (int s = 0; s < steps; ++s) {
-    liquid->advect(0.0, nodes, dt, none, nullptr);
+    liquid->advect(0.0, nodes, unread, dt, none, nullptr);
     liquid->refill({}, nodes, dt, none, none);
     t += dt;
     liquid->reinitialize(none, none, nullptr, t);
@@ -220,10 +221,11 @@ struct WaterAgainstAPlate {
       make_liquid({{"particles", {{"per_cell", 16}}},
                    {"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.5, 0.6, 2}}}}}},
                   grid, 24.0);
+  MacGrid unread{grid};  // φ on nodes follows the node velocities
   WaterAgainstAPlate() { band.add(geometry::TriangleMesh(shells.front()), 3.0 * grid.dx()); }
   /// One step of the water's phases at the still plate, ending at t_end.
   void step(const NodeFields& nodes, double dt, double t_end) {
-    liquid->advect(0.0, nodes, dt, plate, &band);
+    liquid->advect(0.0, nodes, unread, dt, plate, &band);
     liquid->refill({}, nodes, dt, plate, plate);
     liquid->reinitialize(plate, plate, &band, t_end);
   }
@@ -296,7 +298,7 @@ TEST(ParticleLevelSet, WaterParticlesNearAShellDoNotCloseOnIt) {
   std::map<double, double> before;  // collision distance -> distance to the plate
   for (std::int64_t i = 0; i < p.size(); ++i)
     if (p.sign(i) < 0) before[p.collision_distance(i)] = w.plate_x - p.position(i).x();
-  w.liquid->advect(0.0, nodes, 0.5 * w.grid.dx(), w.plate, &w.band);
+  w.liquid->advect(0.0, nodes, w.unread, 0.5 * w.grid.dx(), w.plate, &w.band);
   int near = 0;
   double worst = std::numeric_limits<double>::infinity();
   for (std::int64_t i = 0; i < p.size(); ++i) {
@@ -342,7 +344,7 @@ TEST(ParticleLevelSet, AShellSweepingOverStillParticlesPushesWaterAndDeletesAir)
     geometry::ShellBand band(grid);
     band.add_swept(geometry::TriangleMesh(s0.front()), geometry::TriangleMesh(s1.front()),
                    3.0 * dx);
-    liquid->advect(0.0, nodes, 0.01, g0, &band);
+    liquid->advect(0.0, nodes, MacGrid(grid), 0.01, g0, &band);
     liquid->refill({}, nodes, 0.01, g0, g1);
     liquid->reinitialize(g0, g1, &band, 0.01 * (s + 1));  // 0.1 s: before the first reseed
   }

@@ -136,6 +136,7 @@ void fill_mesh(const geometry::SurfaceMesh& surface, bool subtract, LevelSet& le
 void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up,
                         const std::string& json_path, LevelSet& level_set) {
   const grid::UniformGrid& grid = level_set.grid();
+  const grid::UniformGrid& mac = level_set.mac_grid();  // the domain
   auto& phi = level_set.phi();
   const std::int64_t count = grid.size(Location::Node);
   for (size_t e = 0; e < entries.size(); ++e) {
@@ -155,7 +156,7 @@ void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up
       distance = [=](const Eigen::Vector3d& p) { return p.dot(up) - height; };
       // Water where x·up < height: the domain's lowest x·up (at its corner furthest down)
       // must lie below the surface.
-      const Eigen::AlignedBox3d domain = domain_box(grid);
+      const Eigen::AlignedBox3d domain = domain_box(mac);
       const Eigen::Vector3d lo = domain.min().cwiseProduct(up), hi = domain.max().cwiseProduct(up);
       const double lowest = lo.cwiseMin(hi).sum(), highest = lo.cwiseMax(hi).sum();
       reaches = lowest < height;
@@ -174,13 +175,13 @@ void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up
         const Eigen::Vector3d q = (p - 0.5 * (lo + hi)).cwiseAbs() - 0.5 * (hi - lo);
         return std::min(q.maxCoeff(), 0.0) + q.cwiseMax(0.0).norm();
       };
-      reaches = overlaps_domain(grid, Eigen::AlignedBox3d(lo, hi));
+      reaches = overlaps_domain(mac, Eigen::AlignedBox3d(lo, hi));
       shape = "the box " + box_text(Eigen::AlignedBox3d(lo, hi));
     } else if (type == "sphere") {
       const Eigen::Vector3d c = sdk::json_vec3(spec, "center");
       const double r = spec.at("radius").get<double>();
       distance = [=](const Eigen::Vector3d& p) { return (p - c).norm() - r; };
-      reaches = overlaps_domain(grid, c, r);
+      reaches = overlaps_domain(mac, c, r);
       shape =
           "the sphere (bounds " + box_text(Eigen::AlignedBox3d(c.array() - r, c.array() + r)) + ")";
     } else if (type == "cylinder") {
@@ -192,7 +193,7 @@ void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up
                                  path);
       distance = [cylinder](const Eigen::Vector3d& p) { return cylinder.signed_distance(p); };
       // By its bounding box, as the emitters' cylinders (SmokeSource::require_in_domain).
-      reaches = overlaps_domain(grid, cylinder.bounds());
+      reaches = overlaps_domain(mac, cylinder.bounds());
       shape = "the cylinder (bounds " + box_text(cylinder.bounds()) + ")";
     } else {
       surface = geometry::make_mesh(spec.at("mesh"), path + "/mesh");
@@ -202,11 +203,11 @@ void fill_initial_water(const nlohmann::json& entries, const Eigen::Vector3d& up
           *surface);
       const Eigen::AlignedBox3d bounds(surface->positions.colwise().minCoeff().transpose(),
                                        surface->positions.colwise().maxCoeff().transpose());
-      reaches = overlaps_domain(grid, bounds);
+      reaches = overlaps_domain(mac, bounds);
       shape = "the mesh, transformed (bounds " + box_text(bounds) + ")";
     }
     if (!reaches)
-      throw outside_domain(grid, path, shape,
+      throw outside_domain(mac, path, shape,
                            subtract ? "it would remove no water" : "it would add no water", fix);
     if (surface) {
       fill_mesh(*surface, subtract, level_set);

@@ -15,8 +15,19 @@ namespace shellflow::grid_fluid {
 
 using grid::Location;
 
-LevelSet::LevelSet(const grid::UniformGrid& grid, double band)
-    : m_grid(grid), m_band(band), m_phi(grid.size(Location::Node), band) {}
+grid::UniformGrid LevelSet::cell_centre_lattice(const grid::UniformGrid& mac) {
+  if ((mac.cells().array() < 2).any())
+    throw std::invalid_argument("LevelSet: cell-centred φ needs two cells along every axis");
+  return grid::UniformGrid(mac.origin() + Eigen::Vector3d::Constant(0.5 * mac.dx()), mac.dx(),
+                           mac.cells() - Eigen::Vector3i::Ones());
+}
+
+LevelSet::LevelSet(const grid::UniformGrid& grid, double band, Layout layout)
+    : m_layout(layout),
+      m_mac(grid),
+      m_grid(layout == Layout::Cells ? cell_centre_lattice(grid) : grid),
+      m_band(band),
+      m_phi(m_grid.size(Location::Node), band) {}
 
 double LevelSet::sample(const Eigen::Vector3d& p) const {
   const NodeStencil st = node_stencil(m_grid, p);
@@ -26,6 +37,10 @@ double LevelSet::sample(const Eigen::Vector3d& p) const {
 }
 
 void LevelSet::cell_values(std::vector<double>& out, const std::array<bool, 6>& walls) const {
+  if (m_layout == Layout::Cells) {
+    out = m_phi;
+    return;
+  }
   const Eigen::Vector3i n = m_grid.cells();
   const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
   const std::int64_t sy = nodes.x(), sz = std::int64_t(nodes.x()) * nodes.y();
@@ -94,6 +109,7 @@ double water_fraction(double phi, double eps) {
 }  // namespace
 
 double LevelSet::node_weight(std::int64_t node) const {
+  if (m_layout == Layout::Cells) return 1.0;
   const Eigen::Vector3i n = m_grid.counts(Location::Node);
   const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, node);
   double w = 1.0;
@@ -234,12 +250,13 @@ double LevelSet::two_sided_cell_fraction(const std::array<double, 8>& phi_below,
 }
 
 double LevelSet::volume() const {
-  const Eigen::Vector3i n = m_grid.cells();
+  const Eigen::Vector3i n = m_mac.cells();
   return volume({Eigen::Vector3i::Zero(), n - Eigen::Vector3i::Ones()});
 }
 
 double LevelSet::volume(const grid::IndexBox& cells) const {
   if (cells.empty()) return 0.0;
+  if (m_layout == Layout::Cells) return cell_centred_volume(cells);
   const std::array<std::int64_t, 8> offset = node_corner_offsets(m_grid);
   const int rows_y = cells.hi.y() - cells.lo.y() + 1;
   const std::int64_t rows = std::int64_t(rows_y) * (cells.hi.z() - cells.lo.z() + 1);
@@ -252,6 +269,37 @@ double LevelSet::volume(const grid::IndexBox& cells) const {
     for (int i = 0; i <= cells.hi.x() - cells.lo.x(); ++i)
       row += cell_fraction_at(m_phi.data(), first + i, offset);
     return row;
+  });
+  const double dx = m_grid.dx();
+  return sum * dx * dx * dx;
+}
+
+double LevelSet::cell_centred_volume(const grid::IndexBox& cells) const {
+  // Lattice cell d (d = 0..n per axis) lies between centres d − 1 and d, clamped at the
+  // sides (constant continuation), and covers MAC-cell coordinates [d − ½, d + ½].
+  const Eigen::Vector3i n = m_grid.counts(Location::Node);
+  const auto overlap = [&](int a, int d) {
+    return std::max(0.0, std::min(d + 0.5, cells.hi[a] + 1.0) - std::max(d - 0.5, 1.0 * cells.lo[a]));
+  };
+  const int first_y = cells.lo.y(), rows_y = cells.hi.y() - cells.lo.y() + 2;
+  const std::int64_t rows = std::int64_t(rows_y) * (cells.hi.z() - cells.lo.z() + 2);
+  const double sum = ordered_sum(rows, [&](std::int64_t r) {
+    const int j = first_y + int(r % rows_y), k = cells.lo.z() + int(r / rows_y);
+    const double w_jk = overlap(1, j) * overlap(2, k);
+    if (w_jk == 0.0) return 0.0;
+    const int y[2] = {std::max(j - 1, 0), std::min(j, n.y() - 1)};
+    const int z[2] = {std::max(k - 1, 0), std::min(k, n.z() - 1)};
+    double row = 0.0;
+    for (int i = cells.lo.x(); i <= cells.hi.x() + 1; ++i) {
+      const double w = overlap(0, i);
+      if (w == 0.0) continue;
+      const int x[2] = {std::max(i - 1, 0), std::min(i, n.x() - 1)};
+      std::array<double, 8> corner;
+      for (int c = 0; c < 8; ++c)
+        corner[c] = m_phi[m_grid.index(Location::Node, x[c & 1], y[c >> 1 & 1], z[c >> 2])];
+      row += w * cell_fraction(corner);
+    }
+    return w_jk * row;
   });
   const double dx = m_grid.dx();
   return sum * dx * dx * dx;

@@ -30,13 +30,45 @@ size_t bytes_hash(const std::vector<double>& v) {
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
+
+LevelSet::Layout layout_of(const nlohmann::json& params, const grid::UniformGrid& grid) {
+  if (params.at("level_set").get<std::string>() != "cells") return LevelSet::Layout::Nodes;
+  if ((grid.cells().array() < 2).any())
+    throw ConfigError("/resolution",
+                      "cell-centred water (/water/level_set = cells) needs two cells along every "
+                      "axis of the domain: raise the resolution or widen the domain's thin side");
+  return LevelSet::Layout::Cells;
+}
+
+/// What the cell-centred core does not take yet (docs/water-cell-centres.md, steps C3–C5).
+void require_supported_on_cells(const nlohmann::json& params, const DomainBoundary& boundary) {
+  const auto unsupported = [](const std::string& path, const std::string& what) {
+    return ConfigError(path, what + " with /water/level_set = cells is not supported yet: use "
+                                    "\"nodes\" (the default) for this scene");
+  };
+  if (!params.at("sources").empty()) throw unsupported("/water/sources", "water emitters");
+  if (params.at("particles").at("per_cell").get<int>() > 0)
+    throw unsupported("/water/particles/per_cell", "marker particles");
+  for (int s = 0; s < 6; ++s)
+    if (boundary.side(s / 2, s % 2).type != BoundaryType::Wall)
+      throw unsupported("/boundary", "an open or inflow side");
+}
 }  // namespace
 
 sdk::Schema Liquid::schema() {
   using sdk::Schema;
   return Schema::object(
-             "water (§4.4): a level set on the nodes, φ <= 0 water; its presence makes the "
-             "scene a water scene (no smoke density, temperature, buoyancy or vorticity)")
+             "water (§4.4): a level set, φ <= 0 water; its presence makes the scene a water "
+             "scene (no smoke density, temperature, buoyancy or vorticity)")
+      .field("level_set",
+             Schema::string("nodes")
+                 .one_of({"nodes", "cells"})
+                 .doc("where φ is sampled. nodes: the grid's nodes (the paper's §4.4.1); water "
+                      "landing on a dry wall of the domain is lost there. cells: one sample per "
+                      "pressure cell, traced with the faces' velocities (PhysBAM's); water that "
+                      "reaches a wall stays. For now cells take closed tanks (walls), initial "
+                      "water and prescribed velocities only: no shells, emitters, open or inflow "
+                      "sides, or particles (docs/water-cell-centres.md)"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))
@@ -95,12 +127,12 @@ sdk::Schema Liquid::schema() {
 Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
                const Eigen::Vector3d& up, double fps, const DomainBoundary& boundary,
                const Eigen::Vector3d& gravity)
-    : m_level_set(grid, params.at("band").get<double>() * grid.dx()),
-      m_advector(grid, params.at("advection").get<std::string>() == "maccormack",
+    : m_level_set(grid, params.at("band").get<double>() * grid.dx(), layout_of(params, grid)),
+      m_advector(m_level_set.grid(), params.at("advection").get<std::string>() == "maccormack",
                  params.at("trace").get<std::string>() == "euler"
                      ? LevelSetAdvector::Trace::Euler
                      : LevelSetAdvector::Trace::Midpoint),
-      m_fast_marching(grid),
+      m_fast_marching(m_level_set.grid()),
       m_extrapolation(grid, params.at("extrapolation_profile").get<std::string>() == "linear"),
       m_particles(params.at("particles"), grid, fps, gravity) {
   const double band = params.at("band").get<double>();
@@ -117,6 +149,10 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
     m_open[s] = boundary.side(s / 2, s % 2).type == BoundaryType::Open;
   }
   m_particles.set_walls(m_walls);
+  if (cell_centred()) {
+    require_supported_on_cells(params, boundary);
+    m_centre_velocity = NodeFields(m_level_set.grid(), 0.0, /*smoke=*/false, /*temperature=*/false);
+  }
   fill_initial_water(params.at("initial"), up, "/water/initial", m_level_set);
   const auto& sources = params.at("sources");
   for (size_t i = 0; i < sources.size(); ++i) {
@@ -218,14 +254,31 @@ void Liquid::settle_among_shells(const ShellGeometry& shells, const geometry::Sh
 }
 
 std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double max_speed) {
-  const grid::UniformGrid& grid = m_level_set.grid();
+  const grid::UniformGrid& grid = m_level_set.mac_grid();
   const double reach = dt * max_speed + (std::sqrt(3.0) + 1.0) * grid.dx();
   const auto& phi = m_level_set.phi();
-  const std::int64_t count = static_cast<std::int64_t>(phi.size());
+  const std::int64_t count = grid.size(Location::Node);
   m_velocity_nodes.resize(count);
   if (reach >= m_level_set.band()) return {};  // the whole band: every node
+  if (cell_centred()) {
+    // A node lies within √3Δx/2 of the centres of its (up to 8) cells, and φ is a distance.
+    const Eigen::Vector3i cells = grid.cells();
+    const double node_reach = reach + 0.5 * std::sqrt(3.0) * grid.dx();
 #pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < count; ++i) m_velocity_nodes[i] = phi[i] <= reach ? 1 : 0;
+    for (std::int64_t i = 0; i < count; ++i) {
+      const Eigen::Vector3i node = grid.coordinates(Location::Node, i);
+      double nearest = kInfinity;
+      for (int corner = 0; corner < 8; ++corner) {
+        const Eigen::Vector3i c =
+            (node - corner_step(corner)).cwiseMax(0).cwiseMin(cells - Eigen::Vector3i::Ones());
+        nearest = std::min(nearest, phi[grid.index(Location::Cell, c)]);
+      }
+      m_velocity_nodes[i] = nearest <= node_reach ? 1 : 0;
+    }
+  } else {
+#pragma omp parallel for schedule(static)
+    for (std::int64_t i = 0; i < count; ++i) m_velocity_nodes[i] = phi[i] <= reach ? 1 : 0;
+  }
   for (const auto& s : m_sources) {
     if (!s.active(t)) continue;
     const grid::IndexBox box = s.bounding_nodes(grid, reach);
@@ -237,9 +290,44 @@ std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double
   return m_velocity_nodes;
 }
 
-void Liquid::advect(double t, const NodeFields& velocity, double dt, const ShellGeometry& shells,
-                    const geometry::ShellBand* band) {
+void Liquid::centre_velocities(const MacGrid& mac) {
+  const grid::UniformGrid& grid = mac.grid();
+  const Eigen::Vector3i cells = grid.cells();
+  const auto& phi = m_level_set.phi();
+  for (int a = 0; a < 3; ++a) {
+    const auto& u = mac.face_velocity(a);
+    auto& out = m_centre_velocity.velocity(a);
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int k = 0; k < cells.z(); ++k)
+      for (int j = 0; j < cells.y(); ++j)
+        for (int i = 0; i < cells.x(); ++i) {
+          const std::int64_t cell = grid.index(Location::Cell, i, j, k);
+          Eigen::Vector3i f(i, j, k);
+          double lower = u[grid.index(face_location(a), f)];
+          f[a] += 1;
+          double upper = u[grid.index(face_location(a), f)];
+          // An air cell against a wall: the wall's face holds the wall's velocity, not the
+          // water's continued, and averaged in it halved the speed of a surface falling
+          // onto the floor in its last cell, which lost the water between (its φ moves with
+          // the water's velocity, as the air's extrapolated faces do elsewhere).
+          if (phi[cell] > 0.0 && cells[a] > 1) {
+            if (f[a] == 1 && m_walls[2 * a]) lower = upper;
+            if (f[a] == cells[a] && m_walls[2 * a + 1]) upper = lower;
+          }
+          out[cell] = 0.5 * (lower + upper);
+        }
+  }
+}
+
+void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& mac, double dt,
+                    const ShellGeometry& shells, const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
+  if (cell_centred() && !shells.empty())
+    throw ConfigError("/water/level_set",
+                      "shells with /water/level_set = cells are not supported yet: use \"nodes\" "
+                      "(the default) for a scene with shells");
+  if (cell_centred()) centre_velocities(mac);
+  const NodeFields& velocity = cell_centred() ? m_centre_velocity : node_velocity;
   m_stats = LiquidStats{};
   m_invalid.clear();
   if (m_by_phase) {
@@ -517,10 +605,15 @@ double Liquid::sampled_cell_fraction(const Eigen::Vector3i& cell, const std::arr
 void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
                          const ShellGeometry& shells, const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
-  const grid::UniformGrid& grid = m_level_set.grid();
+  const grid::UniformGrid& grid = m_level_set.mac_grid();
   const Eigen::Vector3i cells = grid.cells();
+  const auto& phi = m_level_set.phi();
   for (int a = 0; a < 3; ++a) {
-    // Known: the faces the projection set, those next to a liquid cell, and Neumann faces.
+    // Known: Neumann faces and the faces the projection set. On nodes those are all the faces
+    // next to a liquid cell; on cells only those whose φ, the mean of their two cells', is
+    // water (PhysBAM's seeds): a face whose surface lies nearer the liquid centre than
+    // halfway, θ < ½, took the ghost-fluid update u −= Δp/θ, large as θ → 0, and is
+    // continued from the water like the air's faces.
     const Location loc = face_location(a);
     const Eigen::Vector3i n = grid.counts(loc);
     auto& known = m_known[a];
@@ -533,9 +626,16 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
           Eigen::Vector3i c(i, j, k);
           const std::int64_t f = grid.index(loc, c);
           bool set = neumann[f] != 0;
-          if (!set && c[a] < cells[a]) set = projection.fluid_cell(grid.index(Location::Cell, c));
-          c[a] -= 1;
-          if (!set && c[a] >= 0) set = projection.fluid_cell(grid.index(Location::Cell, c));
+          if (!set && cell_centred()) {
+            // A domain face's φ is its one cell's (constant continuation).
+            const Eigen::Vector3i upper = c.cwiseMin(cells - Eigen::Vector3i::Ones());
+            c[a] = std::max(c[a] - 1, 0);
+            set = phi[grid.index(Location::Cell, upper)] + phi[grid.index(Location::Cell, c)] <= 0.0;
+          } else if (!set) {
+            if (c[a] < cells[a]) set = projection.fluid_cell(grid.index(Location::Cell, c));
+            c[a] -= 1;
+            if (!set && c[a] >= 0) set = projection.fluid_cell(grid.index(Location::Cell, c));
+          }
           known[f] = neumann[f] != 0 ? 2 : set ? 1 : 0;  // 2: a shell's or wall's face
         }
   }

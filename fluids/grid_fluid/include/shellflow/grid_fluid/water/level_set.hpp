@@ -1,9 +1,14 @@
 #pragma once
-// LevelSet: the water's level set on the grid nodes (§4.4.1, Guendelman et al. 2005):
-// φ <= 0 in the water, φ > 0 in the air, kept a signed distance [m] within `band` of the
-// surface by fast marching and clamped to ±band beyond it (nodes that far are never
-// read: the surface, the pressure's liquid cells and the extrapolated velocities all lie
-// within it). One flat array in UniformGrid::index(Location::Node, ...) order.
+// LevelSet: the water's level set (§4.4.1, Guendelman et al. 2005): φ <= 0 in the water,
+// φ > 0 in the air, kept a signed distance [m] within `band` of the surface by fast
+// marching and clamped to ±band beyond it (samples that far are never read: the surface,
+// the pressure's liquid cells and the extrapolated velocities all lie within it).
+// φ lives on the MAC grid's nodes (Layout::Nodes) or on its cell centres (Layout::Cells,
+// one sample per pressure cell, as PhysBAM keeps it: docs/water-cell-centres.md). Either
+// way the samples are the nodes of lattice(), one flat array in its
+// UniformGrid::index(Location::Node, ...) order; for cells that lattice's nodes are the
+// MAC cell centres and its flat index is the MAC cell index. Beyond the outermost cell
+// centres φ continues constant (a wall's ghost cell holds its first cell's φ).
 
 #include <array>
 #include <vector>
@@ -14,11 +19,20 @@ namespace shellflow::grid_fluid {
 
 class LevelSet {
  public:
-  LevelSet() = default;
-  /// All air (φ = band) on the nodes of `grid`; `band` [m] > 0.
-  LevelSet(const grid::UniformGrid& grid, double band);
+  enum class Layout { Nodes, Cells };
 
+  LevelSet() = default;
+  /// All air (φ = band) on the nodes or cell centres of the MAC grid `grid`; `band` [m] > 0.
+  /// Cells need two cells along every axis (std::invalid_argument otherwise).
+  LevelSet(const grid::UniformGrid& grid, double band, Layout layout = Layout::Nodes);
+
+  Layout layout() const { return m_layout; }
+  /// The lattice whose nodes are φ's samples (the MAC grid itself for Layout::Nodes).
   const grid::UniformGrid& grid() const { return m_grid; }
+  /// The MAC grid the water lives in.
+  const grid::UniformGrid& mac_grid() const { return m_mac; }
+  /// The lattice whose nodes are the centres of `mac`'s cells.
+  static grid::UniformGrid cell_centre_lattice(const grid::UniformGrid& mac);
   double band() const { return m_band; }
   std::vector<double>& phi() { return m_phi; }
   const std::vector<double>& phi() const { return m_phi; }
@@ -32,12 +46,16 @@ class LevelSet {
   /// Why: wall nodes have no normal velocity and stay stale and dry as water arrives;
   /// averaged in, they kept the wall's cells air while the faces carried water into them.
   void cell_values(std::vector<double>& out, const std::array<bool, 6>& walls = {}) const;
-  /// Water volume [m^3]: the exact volume where the piecewise-linear interpolant of φ
-  /// is below zero, each cell cut into six tetrahedra (marching tetrahedra's surface,
-  /// to O(Δx²) the liquid mesh's). Sharp, so a film or a drop thinner than a cell counts
-  /// for what it holds: a smeared Heaviside over-counts such water by up to its width.
+  /// Water volume [m^3] in the domain box: the exact volume where the piecewise-linear
+  /// interpolant of φ is below zero, each lattice cell cut into six tetrahedra (marching
+  /// tetrahedra's surface, to O(Δx²) the liquid mesh's). Sharp, so a film or a drop thinner
+  /// than a cell counts for what it holds: a smeared Heaviside over-counts such water by up
+  /// to its width. On cells, the half-cell strip between the outermost centres and the
+  /// domain's faces counts with φ continued constant across it.
   double volume() const;
-  /// The same over the cells of `cells` (possibly empty: 0).
+  /// The same within the MAC cells of `cells` (possibly empty: 0). On cells each lattice
+  /// cell counts with the share of it inside the box (exact where φ is constant along the
+  /// axis it is cut across: the strips at the domain's faces; O(Δx²) inside).
   double volume(const grid::IndexBox& cells) const;
   /// The water fraction of one cell from its corners' φ (NodeStencil's corner order), as
   /// volume() measures it.
@@ -59,9 +77,14 @@ class LevelSet {
   std::int64_t liquid_nodes() const;
 
  private:
-  /// The trapezoidal rule's weight of a node: 1/2 per face of the domain it lies on.
+  /// The trapezoidal rule's weight of a sample: 1/2 per face of the domain a node lies on;
+  /// 1 for a cell centre.
   double node_weight(std::int64_t node) const;
+  /// volume(cells) on Layout::Cells.
+  double cell_centred_volume(const grid::IndexBox& cells) const;
 
+  Layout m_layout = Layout::Nodes;
+  grid::UniformGrid m_mac;
   grid::UniformGrid m_grid;
   double m_band = 0.0;
   std::vector<double> m_phi;

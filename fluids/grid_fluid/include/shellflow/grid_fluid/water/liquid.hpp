@@ -55,6 +55,8 @@ class Liquid {
   static sdk::Schema schema();
 
   const LevelSet& level_set() const { return m_level_set; }
+  /// φ on the MAC cell centres ("level_set": "cells") rather than its nodes.
+  bool cell_centred() const { return m_level_set.layout() == LevelSet::Layout::Cells; }
   LevelSet& level_set() { return m_level_set; }
   const LiquidStats& stats() const { return m_stats; }
   const ParticleLevelSet& particles() const { return m_particles; }
@@ -99,11 +101,13 @@ class Liquid {
   /// for the ring averaging and reinitialisation, and every node about an emitter that is
   /// on at t. Velocities elsewhere are extrapolated or zero (§4.4): not worth advecting.
   std::span<const std::uint8_t> velocity_nodes(double t, double dt, double max_speed);
-  /// φ along the node velocities' rays, the particles along their second-order paths.
-  /// `t`: the time at the start of the step (the emitters on then, whose flow the budget
-  /// counts).
-  void advect(double t, const NodeFields& velocity, double dt, const ShellGeometry& shells,
-              const geometry::ShellBand* band);
+  /// φ along the velocity's rays, the particles along their second-order paths: the node
+  /// velocities `velocity` (φ on nodes), or the cell centres' mean of the faces of `mac`
+  /// (φ on cells: the faces' divergence-free field, whose wall faces hold the walls'
+  /// normal velocity). `t`: the time at the start of the step (the emitters on then, whose
+  /// flow the budget counts).
+  void advect(double t, const NodeFields& velocity, const MacGrid& mac, double dt,
+              const ShellGeometry& shells, const geometry::ShellBand* band);
   void add_sources(double t, DomainBoundary& boundary);
   /// `swept`: the nodes the shells swept n → n+1 (SweptRefill::swept_nodes); may be empty.
   /// `velocity`: the node velocities after the advection, swept nodes refilled; `shells_n`,
@@ -140,7 +144,12 @@ class Liquid {
   void carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
                          const ShellGeometry& shells_n, const ShellGeometry& shells);
 
+  /// advect() on cells: the velocity at each cell centre, the mean of its two faces per axis
+  /// (PhysBAM's Face_To_Cell_Vector), in `m_centre_velocity` on the centres' lattice.
+  void centre_velocities(const MacGrid& mac);
+
   LevelSet m_level_set;
+  NodeFields m_centre_velocity;  ///< on cells: what φ's rays follow
   std::vector<double> m_scratch;      ///< φ* being advected; after advect(), φ^n
   std::vector<double> m_swept_value;  ///< refill(): their φ^n carried with the shell
   std::vector<double> m_built;    ///< φ as the scene built it, until the first step

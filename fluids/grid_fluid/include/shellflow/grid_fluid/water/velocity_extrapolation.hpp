@@ -4,7 +4,8 @@
 // (Guendelman et al. 2005) extends them across the surface into a band of a few cells
 // so that the next step's advection of velocity and φ has values to interpolate. Per face
 // family, the unknown faces with φ below the band (φ at a face: the mean of its four
-// nodes, a signed distance after reinitialisation) are visited in increasing φ, and each
+// nodes, or of its two cells for cell-centred φ; a signed distance after reinitialisation)
+// are visited in increasing φ, and each
 // solves the upwind discretisation of ∇φ·∇u = 0 from its already known neighbours of
 // lower φ:  u_f = Σ_a (φ_f − φ_a) u_a / Σ_a (φ_f − φ_a), one neighbour per axis (the
 // lower of the two), neighbours that are not visible (a ray between the face centres
