@@ -64,9 +64,8 @@ WaterEnergy water_energy(const MacGrid& mac, const FreeSurface& surface, double 
   for (int a = 0; a < 3; ++a) {
     const auto& u = mac.face_velocity(a);
     const std::int64_t n = static_cast<std::int64_t>(u.size());
-    weighted += ordered_sum(n, [&](std::int64_t f) {
-      return face_role(grid, surface, a, f).weight * u[f] * u[f];
-    });
+    weighted += ordered_sum(
+        n, [&](std::int64_t f) { return face_role(grid, surface, a, f).weight * u[f] * u[f]; });
     double liquid = 0.0, thin = 0.0;
 #pragma omp parallel for schedule(static) reduction(max : liquid, thin)
     for (std::int64_t f = 0; f < n; ++f) {
