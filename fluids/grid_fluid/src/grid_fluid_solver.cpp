@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "shellflow/grid_fluid/mac/ordered_sum.hpp"
+#include "shellflow/grid_fluid/water/water_energy.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
 
@@ -749,6 +750,16 @@ void GridFluid::report(sdk::Metrics& out) const {
     if (m_prescribed)
       out.set("water_symmetric_difference",
               m_liquid->level_set().symmetric_difference(m_initial_phi));
+    // The energy of the water the last projection saw (none before it, nor in a
+    // prescribed flow): K + P is what shellflow bench's energy_change follows.
+    const FreeSurface& surface = m_liquid->last_surface();
+    if (surface.cell_phi.size() == static_cast<size_t>(m_mac.grid().size(Location::Cell))) {
+      const WaterEnergy e = water_energy(m_mac, surface, m_density, m_context.gravity);
+      out.set("kinetic_energy", e.kinetic);
+      out.set("potential_energy", e.potential);
+      out.set("max_liquid_speed", e.max_liquid_speed);
+      out.set("max_surface_face_speed", e.max_surface_face_speed);
+    }
     out.set("liquid_cells", static_cast<double>(p.liquid_cells));
     out.set("pressure_solve_cells", static_cast<double>(p.solve_cells));
     out.set("level_set_invalid_nodes", static_cast<double>(w.invalid_nodes));

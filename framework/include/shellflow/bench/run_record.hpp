@@ -35,9 +35,9 @@ struct RunRecord {
   double sim_time = 0.0;  ///< simulated time reached [s]
   double peak_mb = 0.0;
   /// (E_end − E_first) / max over steps of K, with K the sum of the *.kinetic_energy
-  /// columns (the solids', a smoke fluid's) and E = K + the *.potential_energy columns:
-  /// below 0 when energy left (damping, dissipation), above 0 when the run made energy
-  /// (the sign of an instability); NaN without kinetic energy columns.
+  /// columns (the solids', the fluid's) and E = K + the *.potential_energy columns (a water
+  /// fluid writes both): below 0 when energy left (damping, dissipation), above 0 when the
+  /// run made energy (the sign of an instability); NaN without kinetic energy columns.
   double energy_change = 0.0;
   std::vector<double> errors;  ///< one per spec measure; NaN where it could not be taken
   double seconds_per_step() const { return steps > 0 ? run_seconds / steps : 0.0; }

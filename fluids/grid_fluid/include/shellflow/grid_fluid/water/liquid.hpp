@@ -122,6 +122,8 @@ class Liquid {
   /// centres, the mean of the corners each centre sees (`band`: the cells where rays are
   /// cast; may be null without shells).
   const FreeSurface& surface(const ShellGeometry& shells, const geometry::ShellBand* band);
+  /// The view the last surface() gave (its cell_phi empty before the first).
+  const FreeSurface& last_surface() const { return m_surface; }
   /// The water's volume [m^3] (LevelSet::volume), where `shells` cut a cell of `band`
   /// each side counted with its own φ (sampled where no one plane parts the sides);
   /// without shells or band, LevelSet::volume().
