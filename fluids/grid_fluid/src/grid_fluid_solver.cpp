@@ -662,9 +662,10 @@ std::vector<sdk::ParticleView> GridFluid::particles() const {
   static const ShellGeometry none;
   const ShellGeometry& shells = m_geometry_n ? *m_geometry_n : none;
   const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
-  pls.gather(-1, m_nodes, shells, band, m_marker_views[0]);
-  pls.gather(+1, m_nodes, shells, band, m_marker_views[1]);
-  pls.gather(-1, m_nodes, shells, band, m_marker_views[2], &m_liquid->level_set());
+  const NodeFields& velocity = m_liquid->particle_velocity(m_nodes, m_mac);
+  pls.gather(-1, velocity, shells, band, m_marker_views[0]);
+  pls.gather(+1, velocity, shells, band, m_marker_views[1]);
+  pls.gather(-1, velocity, shells, band, m_marker_views[2], &m_liquid->level_set());
   return {pls.spray().view("spray"), m_marker_views[2].view("escaped_water"),
           m_marker_views[0].view("water_particles"), m_marker_views[1].view("air_particles")};
 }

@@ -225,6 +225,82 @@ TEST(WaterOnCells, ABoxDroppedOnTheDryFloorStaysOnIt) {
   EXPECT_NEAR(fluid->liquid()->level_set().volume(low), v, 1e-12);
 }
 
+/// Zalesak's slotted sphere with φ on `layout` at `cells`^3, turned a quarter of a
+/// revolution by a rigid rotation, with `per_cell` particles: the volume change over the
+/// start.
+double zalesak_quarter_turn(const char* layout, int cells, int per_cell) {
+  sdk::Context context;
+  context.instance_name = "water";
+  context.gravity = Eigen::Vector3d::Zero();
+  context.fps = 24.0 / 628.0 * 4.0;  // reseeded every 10 frames: 2.4 times a quarter turn
+  GridFluid fluid(
+      test::validated(
+          {{"domain", {{"min", {0, 0, 0}}, {"max", {100, 100, 100}}}},
+           {"resolution", cells},
+           {"water",
+            {{"level_set", layout},
+             {"initial",
+              {{{"type", "sphere"}, {"center", {50, 75, 50}}, {"radius", 15}},
+               {{"type", "box"}, {"min", {47.5, 0, -1}}, {"max", {52.5, 72.5, 101}}, {"subtract", true}}}},
+             {"particles", {{"per_cell", per_cell}}}}},
+           {"prescribed_velocity",
+            {{"type", "rigid_rotation"}, {"center", {50, 50, 50}}, {"period", 628.0}}}}),
+      context);
+  const double v0 = fluid.liquid()->initial_volume();
+  double t = 0.0;
+  while (t < 157.0 - 1e-9) {
+    const double dt = std::min(fluid.stable_dt(0.5), 157.0 - t);
+    fluid.advect(t, dt, {}, {});
+    fluid.project(dt, {}, {});
+    t += dt;
+  }
+  return fluid.liquid()->level_set().volume() / v0 - 1.0;
+}
+
+TEST(ParticlesOnCells, KeepTheWaterOfZalesaksSphereThatTheLevelSetAloneLoses) {
+  // §4.4.2 (Enright et al. 2002) on cell-centred φ: the particles' corrections reach the
+  // cell centres about them. The trilinear step alone rounds the slot's edges away every
+  // step (the slot is 1.6 cells wide at 32^3); the particles give them back. Bounds: with
+  // particles, no worse than on the nodes plus a point, and under a third of the level
+  // set's loss alone.
+  const double alone = zalesak_quarter_turn("cells", 32, 0);
+  const double with = zalesak_quarter_turn("cells", 32, 16);
+  const double nodes = zalesak_quarter_turn("nodes", 32, 16);
+  std::printf("[  figure  ] Zalesak 32^3, a quarter turn: cells %+.2f%% alone, %+.2f%% with 16 "
+              "particles per cell; nodes %+.2f%% with 16\n",
+              100.0 * alone, 100.0 * with, 100.0 * nodes);
+  EXPECT_LT(alone, -0.05);  // the level set alone does lose it: the test can tell
+  EXPECT_LT(std::abs(with), std::abs(nodes) + 0.01);
+  EXPECT_LT(std::abs(with), std::abs(alone) / 3.0);
+}
+
+TEST(ParticlesOnCells, AreSeededInTheStripsAlongTheWalls) {
+  // The cells of the domain are seeded, not those of the centres' lattice: a pool reaching
+  // the floor has water particles below its first centres, within ½Δx of the floor, where
+  // a film on the floor lives.
+  nlohmann::json params = cell_water(16, {{{"type", "pool"}, {"height", 0.3}}});
+  params["water"]["particles"] = {{"per_cell", 8}};
+  auto fluid = test::make_fluid(params);
+  const ParticleLevelSet& p = fluid->liquid()->particles();
+  const double dx = fluid->grid().dx();
+  int in_strip = 0;
+  for (std::int64_t i = 0; i < p.size(); ++i) {
+    EXPECT_GE(p.position(i).y(), 0.0);
+    EXPECT_LE(p.position(i).y(), 1.0);
+    in_strip += p.position(i).y() < 0.5 * dx && p.sign(i) < 0 ? 1 : 0;
+  }
+  EXPECT_GT(p.size(), 0);
+  // The band is 3Δx about the surface at 0.3 = 4.8Δx: the floor's strip lies beyond it.
+  EXPECT_EQ(in_strip, 0);
+  nlohmann::json shallow = cell_water(16, {{{"type", "pool"}, {"height", 0.1}}});
+  shallow["water"]["particles"] = {{"per_cell", 8}};
+  auto low = test::make_fluid(shallow);
+  const ParticleLevelSet& q = low->liquid()->particles();
+  for (std::int64_t i = 0; i < q.size(); ++i)
+    in_strip += q.position(i).y() < 0.5 * dx && q.sign(i) < 0 ? 1 : 0;
+  EXPECT_GT(in_strip, 16 * 16);  // every column of the floor: 8 per cell, a half cell deep
+}
+
 TEST(WaterOnCells, WhatItCannotTakeYetIsRefusedNamingThePath) {
   const auto refused = [](nlohmann::json water, nlohmann::json extra = nlohmann::json::object()) {
     nlohmann::json params = {{"resolution", 8}, {"water", std::move(water)}};
@@ -237,9 +313,6 @@ TEST(WaterOnCells, WhatItCannotTakeYetIsRefusedNamingThePath) {
        {"sources", {{{"shape", "sphere"}, {"center", {0.5, 0.5, 0.5}}, {"radius", 0.1}}}}});
   EXPECT_NE(emitter.find("/fluid/water/sources"), std::string::npos) << emitter;
   EXPECT_NE(emitter.find("not supported yet"), std::string::npos) << emitter;
-  const std::string particles =
-      refused({{"level_set", "cells"}, {"initial", pool}, {"particles", {{"per_cell", 8}}}});
-  EXPECT_NE(particles.find("/fluid/water/particles/per_cell"), std::string::npos) << particles;
   const std::string open = refused({{"level_set", "cells"}, {"initial", pool}},
                                    {{"boundary", {{"y_max", {{"type", "open"}}}}}});
   EXPECT_NE(open.find("/fluid/boundary"), std::string::npos) << open;

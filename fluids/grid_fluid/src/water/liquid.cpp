@@ -47,8 +47,6 @@ void require_supported_on_cells(const nlohmann::json& params, const DomainBounda
                                     "\"nodes\" (the default) for this scene");
   };
   if (!params.at("sources").empty()) throw unsupported("/water/sources", "water emitters");
-  if (params.at("particles").at("per_cell").get<int>() > 0)
-    throw unsupported("/water/particles/per_cell", "marker particles");
   for (int s = 0; s < 6; ++s)
     if (boundary.side(s / 2, s % 2).type != BoundaryType::Wall)
       throw unsupported("/boundary", "an open or inflow side");
@@ -67,8 +65,8 @@ sdk::Schema Liquid::schema() {
                       "landing on a dry wall of the domain is lost there. cells: one sample per "
                       "pressure cell, traced with the faces' velocities (PhysBAM's); water that "
                       "reaches a wall stays. For now cells take closed tanks (walls), initial "
-                      "water and prescribed velocities only: no shells, emitters, open or inflow "
-                      "sides, or particles (docs/water-cell-centres.md)"))
+                      "water, particles and prescribed velocities only: no shells, emitters, open "
+                      "or inflow sides (docs/water-cell-centres.md)"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))
@@ -134,7 +132,7 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
                      : LevelSetAdvector::Trace::Midpoint),
       m_fast_marching(m_level_set.grid()),
       m_extrapolation(grid, params.at("extrapolation_profile").get<std::string>() == "linear"),
-      m_particles(params.at("particles"), grid, fps, gravity) {
+      m_particles(params.at("particles"), m_level_set.grid(), fps, gravity, &grid) {
   const double band = params.at("band").get<double>();
   const double width = params.at("extrapolation").get<double>();
   if (!(width < band))
@@ -288,6 +286,12 @@ std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double
           m_velocity_nodes[grid.index(Location::Node, i, j, k)] = 1;
   }
   return m_velocity_nodes;
+}
+
+const NodeFields& Liquid::particle_velocity(const NodeFields& nodes, const MacGrid& mac) {
+  if (!cell_centred()) return nodes;
+  centre_velocities(mac);
+  return m_centre_velocity;
 }
 
 void Liquid::centre_velocities(const MacGrid& mac) {

@@ -90,8 +90,12 @@ sdk::Schema ParticleLevelSet::schema() {
 }
 
 ParticleLevelSet::ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& grid,
-                                   double fps, const Eigen::Vector3d& gravity)
-    : m_grid(grid), m_sampler(grid), m_gravity(gravity) {
+                                   double fps, const Eigen::Vector3d& gravity,
+                                   const grid::UniformGrid* domain)
+    : m_grid(grid),
+      m_domain(domain ? *domain : grid),
+      m_sampler(grid),
+      m_gravity(gravity) {
   m_per_cell = params.at("per_cell").get<int>();
   m_reseed_every = params.at("reseed_every").get<int>();
   m_seed = params.at("seed").get<std::uint64_t>();
@@ -136,11 +140,11 @@ bool ParticleLevelSet::in_cell_band(std::span<const std::uint8_t> node_flags,
 
 std::int64_t ParticleLevelSet::cell_of(std::int64_t i) const {
   const Eigen::Vector3d f =
-      (Eigen::Vector3d(m_x[i], m_y[i], m_z[i]) - m_grid.origin()) / m_grid.dx();
-  const Eigen::Vector3i n = m_grid.cells();
+      (Eigen::Vector3d(m_x[i], m_y[i], m_z[i]) - m_domain.origin()) / m_domain.dx();
+  const Eigen::Vector3i n = m_domain.cells();
   Eigen::Vector3i c;
   for (int a = 0; a < 3; ++a) c[a] = std::clamp(static_cast<int>(std::floor(f[a])), 0, n[a] - 1);
-  return m_grid.index(Location::Cell, c);
+  return m_domain.index(Location::Cell, c);
 }
 
 std::size_t ParticleLevelSet::particle_bytes() const {
@@ -197,15 +201,15 @@ void ParticleLevelSet::top_up(const LevelSet& phi, const ShellGeometry& shells,
   const auto start = std::chrono::steady_clock::now();
   grid::IndexBox cells{
       nodes.lo.cwiseMax(0),
-      (nodes.hi - Eigen::Vector3i::Ones()).cwiseMin(m_grid.cells() - Eigen::Vector3i::Ones())};
+      (nodes.hi - Eigen::Vector3i::Ones()).cwiseMin(m_domain.cells() - Eigen::Vector3i::Ones())};
   seed_cells(phi, shells, true, &cells);
   m_stats.seconds += seconds_since(start);
 }
 
 void ParticleLevelSet::drop_air_in_water(const LevelSet& phi, const grid::IndexBox& nodes) {
   if (!enabled() || nodes.empty()) return;
-  const Eigen::Vector3d lo = m_grid.position(Location::Node, nodes.lo);
-  const Eigen::Vector3d hi = m_grid.position(Location::Node, nodes.hi);
+  const Eigen::Vector3d lo = m_domain.position(Location::Node, nodes.lo);
+  const Eigen::Vector3d hi = m_domain.position(Location::Node, nodes.hi);
   std::vector<std::uint8_t> keep(m_x.size(), 1);
   bool any = false;
   for (std::int64_t i = 0; i < size(); ++i) {
@@ -221,8 +225,8 @@ void ParticleLevelSet::drop_air_in_water(const LevelSet& phi, const grid::IndexB
 
 void ParticleLevelSet::seed_cells(const LevelSet& phi, const ShellGeometry& shells, bool top_up,
                                   const grid::IndexBox* within) {
-  const Eigen::Vector3i n = m_grid.cells();
-  const std::int64_t cells = m_grid.size(Location::Cell);
+  const Eigen::Vector3i n = m_domain.cells();
+  const std::int64_t cells = m_domain.size(Location::Cell);
   // Particles per cell now (a reseed tops cells up to per_cell and trims them to twice).
   std::vector<int> count(cells, 0);
   std::vector<std::uint8_t> keep(m_x.size(), 1);
@@ -233,6 +237,7 @@ void ParticleLevelSet::seed_cells(const LevelSet& phi, const ShellGeometry& shel
     }
   compact(keep);
   const auto& p = phi.phi();
+  const bool on_nodes = phi.layout() == LevelSet::Layout::Nodes;
   const std::int64_t before = size();
   const double dx = m_grid.dx();
   // A band cell: one of its corners within 3Δx of the surface (Enright et al. 2002).
@@ -242,19 +247,22 @@ void ParticleLevelSet::seed_cells(const LevelSet& phi, const ShellGeometry& shel
   for (int k = box.lo.z(); k <= box.hi.z(); ++k)
     for (int j = box.lo.y(); j <= box.hi.y(); ++j)
       for (int i = box.lo.x(); i <= box.hi.x(); ++i) {
-        const std::int64_t cell = m_grid.index(Location::Cell, i, j, k);
+        const std::int64_t cell = m_domain.index(Location::Cell, i, j, k);
         if (count[cell] >= m_per_cell) continue;
         double nearest = std::numeric_limits<double>::infinity();
-        for (int c = 0; c < 8; ++c)
-          nearest = std::min(
-              nearest,
-              std::abs(
-                  p[m_grid.index(Location::Node, i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2))]));
+        for (int c = 0; c < 8; ++c) {
+          const Eigen::Vector3i corner(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2));
+          // On cells, the corners' φ as the lattice interpolates it (continued beyond the
+          // outer centres), so that the strips along the walls are seeded too.
+          nearest = std::min(nearest,
+                             std::abs(on_nodes ? p[m_grid.index(Location::Node, corner)]
+                                               : phi.sample(m_domain.position(Location::Node, corner))));
+        }
         if (nearest < m_band) band.push_back(cell);
       }
   for (const std::int64_t cell : band) {
     const Eigen::Vector3d lo =
-        m_grid.position(Location::Node, m_grid.coordinates(Location::Cell, cell));
+        m_domain.position(Location::Node, m_domain.coordinates(Location::Cell, cell));
     std::mt19937_64 rng(mix(m_seed, static_cast<std::uint64_t>(m_round), cell));
     std::uniform_real_distribution<double> unit(0.0, 1.0);
     for (int s = count[cell]; s < m_per_cell; ++s) {
@@ -308,7 +316,7 @@ bool ParticleLevelSet::stop_at_shells(std::int64_t i, const ShellGeometry& shell
 void ParticleLevelSet::advance_spray(double dt, const ShellGeometry& shells) {
   const std::int64_t count = m_spray.size();
   if (count == 0) return;
-  const Eigen::Vector3d lower = m_grid.origin(), upper = m_grid.upper();
+  const Eigen::Vector3d lower = m_domain.origin(), upper = m_domain.upper();
   std::vector<std::uint8_t> flying(static_cast<size_t>(count), 1);
   std::int64_t landed = 0;
 #pragma omp parallel for schedule(static) reduction(+ : landed)
@@ -379,7 +387,7 @@ void ParticleLevelSet::advect(const NodeFields& velocity, double dt, const Shell
   for (auto* v : {&m_u, &m_v, &m_w}) v->resize(count);
   const std::span<const std::uint8_t> in_band =
       band && !shells_n.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
-  const Eigen::Vector3d lower = m_grid.origin(), upper = m_grid.upper();
+  const Eigen::Vector3d lower = m_domain.origin(), upper = m_domain.upper();
   std::vector<std::uint8_t> keep(count, 1);
   std::int64_t deleted = 0;
 #pragma omp parallel for schedule(static) reduction(+ : deleted)
@@ -435,7 +443,7 @@ void ParticleLevelSet::keep_off_walls(const Eigen::Vector3d& from, Eigen::Vector
   // A wall node's velocity has no normal part: a water particle that reached a wall's plane
   // stayed there for good and held a film of water on the wall. Kept its collision distance
   // off, or no nearer than it was, as PhysBAM's Adjust_Particle_For_Domain_Boundaries does.
-  const Eigen::Vector3d lower = m_grid.origin(), upper = m_grid.upper();
+  const Eigen::Vector3d lower = m_domain.origin(), upper = m_domain.upper();
   for (int a = 0; a < 3; ++a) {
     if (m_walls[2 * a]) {
       const double keep = std::max(std::min(collision, from[a] - lower[a]), m_r_min);
@@ -477,7 +485,7 @@ bool ParticleLevelSet::stop_at_moving_shells(
   const Eigen::Vector3d normal = (side > 0.0 ? 1.0 : -1.0) * n1.normalized();
   const Eigen::Vector3d on_plane = p1 - normal.dot(p1 - b[0]) * normal;
   const Eigen::Vector3d back =
-      (on_plane + m_collision[i] * normal).cwiseMax(m_grid.origin()).cwiseMin(m_grid.upper());
+      (on_plane + m_collision[i] * normal).cwiseMax(m_domain.origin()).cwiseMin(m_domain.upper());
   if (earliest(back).first >= 0) return false;  // the corrected path still crosses
   m_x[i] = back.x();
   m_y[i] = back.y();
@@ -492,7 +500,7 @@ std::optional<Eigen::Vector3d> ParticleLevelSet::off_shells(const Eigen::Vector3
   const std::optional<ShellContact> c = shells.nearest(p, collision, side);
   if (!c || c->distance >= collision) return std::nullopt;
   const Eigen::Vector3d target =
-      (c->point + collision * c->normal).cwiseMax(m_grid.origin()).cwiseMin(m_grid.upper());
+      (c->point + collision * c->normal).cwiseMax(m_domain.origin()).cwiseMin(m_domain.upper());
   // The move is tested from outside the wedge of the triangle it leaves: if it would cross
   // a shell (another sheet, a fold), the particle stays where it is (§4.4.2).
   const Eigen::Vector3d from = c->point + std::max(c->distance, shells.epsilon()) * c->normal;

@@ -60,6 +60,9 @@ class Liquid {
   LevelSet& level_set() { return m_level_set; }
   const LiquidStats& stats() const { return m_stats; }
   const ParticleLevelSet& particles() const { return m_particles; }
+  /// The velocities the particles move with, on φ's lattice: the node velocities `nodes`,
+  /// or on cells the centres' means of the faces of `mac` (computed now).
+  const NodeFields& particle_velocity(const NodeFields& nodes, const MacGrid& mac);
   ParticleLevelSet& particles() { return m_particles; }
   const std::vector<WaterSource>& sources() const { return m_sources; }
   /// The volume water_volume_change counts from [m^3]: the scene's water measured by

@@ -90,10 +90,13 @@ struct ParticleStats {
 
 class ParticleLevelSet {
  public:
-  /// The "particles" block of the water (schema()); `fps` the scene's frame rate;
-  /// `gravity` [m/s^2] what the spray falls under.
+  /// The "particles" block of the water (schema()); `grid` the lattice of φ's samples
+  /// (LevelSet::grid()), whose node velocities the particles move with; `fps` the scene's
+  /// frame rate; `gravity` [m/s^2] what the spray falls under; `domain` the MAC grid, whose
+  /// cells are seeded and whose box holds the particles (null: `grid`, φ on nodes).
   ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& grid, double fps,
-                   const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero());
+                   const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(),
+                   const grid::UniformGrid* domain = nullptr);
   static sdk::Schema schema();
   /// The domain's sides that are walls (−x, +x, −y, +y, −z, +z): water particles keep their
   /// collision distance off them as off a shell.
@@ -180,7 +183,8 @@ class ParticleLevelSet {
   /// band's node flags): only there can a particle's path or stencil meet a shell.
   bool in_cell_band(std::span<const std::uint8_t> node_flags, const Eigen::Vector3d& x) const;
 
-  grid::UniformGrid m_grid;
+  grid::UniformGrid m_grid;    ///< φ's lattice: velocities, corrections
+  grid::UniformGrid m_domain;  ///< the MAC grid: seeding cells, walls, the box
   LevelSetAdvector m_sampler;
   int m_per_cell = 0;
   int m_reseed_every = 10;  ///< frames
