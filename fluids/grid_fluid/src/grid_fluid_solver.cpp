@@ -761,6 +761,15 @@ void GridFluid::report(sdk::Metrics& out) const {
       out.set("max_liquid_speed", e.max_liquid_speed);
       out.set("max_surface_face_speed", e.max_surface_face_speed);
     }
+    if (m_liquid->fraction().enabled()) {
+      // What F keeps that φ does not show (layers thinner than half a cell on a wall), and
+      // what keeping F in [0, 1] cost.
+      const VolumeFractionStats& f = m_liquid->fraction().stats();
+      out.set("water_volume_level_set", m_liquid->level_set().volume());
+      out.set("water_fraction_clipped", f.clipped);
+      out.set("water_fraction_excess", f.excess);
+      out.set("water_fraction_mixed_cells", static_cast<double>(f.mixed_cells));
+    }
     out.set("liquid_cells", static_cast<double>(p.liquid_cells));
     out.set("pressure_solve_cells", static_cast<double>(p.solve_cells));
     out.set("level_set_invalid_nodes", static_cast<double>(w.invalid_nodes));

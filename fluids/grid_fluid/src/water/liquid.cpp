@@ -1,5 +1,6 @@
 #include "shellflow/grid_fluid/water/liquid.hpp"
 
+#include <algorithm>
 #include <bit>
 #include <cmath>
 #include <functional>
@@ -67,6 +68,13 @@ sdk::Schema Liquid::schema() {
                       "reaches a wall stays. For now cells take closed tanks (walls), initial "
                       "water, particles and prescribed velocities only: no shells, emitters, open "
                       "or inflow sides (docs/water-cell-centres.md)"))
+      .field("volume_fraction",
+             Schema::boolean(false).doc(
+                 "cells only, experimental: carry each cell's water fraction beside φ, moved in "
+                 "conservative form (Weymouth and Yue 2010) and φ moved to it every step "
+                 "(CLSVOF), so the water's volume changes only through the domain's sides; a "
+                 "layer thinner than half a cell on a wall keeps its water there. Without "
+                 "particles (docs/water-cell-centres.md §5)"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))
@@ -166,7 +174,23 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   m_built = m_level_set.phi();
   m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), ShellGeometry(), nullptr);
   m_marched_hash = bytes_hash(m_level_set.phi());
-  m_initial_volume = m_level_set.volume();
+  if (params.at("volume_fraction").get<bool>()) {
+    if (!cell_centred())
+      throw ConfigError("/water/volume_fraction",
+                        "a volume fraction needs cell-centred φ: add \"level_set\": \"cells\"");
+    if (m_particles.enabled())
+      throw ConfigError("/water/volume_fraction",
+                        "a volume fraction and marker particles both correct φ: set "
+                        "/water/particles/per_cell to 0 or leave the volume fraction out");
+    // Its sweeps carry water across closed walls only, and emitters add to φ alone.
+    if (!m_sources.empty() || boundary.has_open_side() ||
+        std::any_of(m_walls.begin(), m_walls.end(), [](bool wall) { return !wall; }))
+      throw ConfigError("/water/volume_fraction",
+                        "a volume fraction takes closed tanks without emitters for now: leave it "
+                        "out of a scene with /water/sources or an open or inflow side");
+    m_fraction = VolumeFraction(m_level_set);
+  }
+  m_initial_volume = volume(nullptr, nullptr);
   m_particles.seed(m_level_set, ShellGeometry());
 }
 
@@ -332,6 +356,14 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
                       "(the default) for a scene with shells");
   if (cell_centred()) centre_velocities(mac);
   const NodeFields& velocity = cell_centred() ? m_centre_velocity : node_velocity;
+  if (m_fraction.enabled()) {
+    // F moves with φ^n's planes; with the projection's faces next to liquid cells once there
+    // has been a projection.
+    std::array<const std::vector<double>*, 3> faces;
+    for (int a = 0; a < 3; ++a)
+      faces[a] = m_transport[a].empty() ? &mac.face_velocity(a) : &m_transport[a];
+    m_fraction.advect(faces, m_level_set, dt, m_fraction_steps++);
+  }
   m_stats = LiquidStats{};
   m_invalid.clear();
   if (m_by_phase) {
@@ -462,10 +494,12 @@ void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& sh
   // Enright et al. 2002: the particles correct φ before and after reinitialisation.
   m_particles.collide(m_level_set, shells_n, shells, band);
   m_particles.correct(m_level_set, shells);
+  if (m_fraction.enabled()) m_fraction.correct(m_level_set);
   const auto start = std::chrono::steady_clock::now();
   m_stats.reinitialization =
       m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
   m_stats.t_reinitialize = seconds_since(start);
+  if (m_fraction.enabled()) m_fraction.correct(m_level_set, /*signs_only=*/true);
   m_particles.correct(m_level_set, shells);
   m_particles.adjust(m_level_set, shells);
   for (const grid::IndexBox& box : m_emitting) m_particles.top_up(m_level_set, shells, box);
@@ -528,6 +562,7 @@ const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::
 }
 
 double Liquid::volume(const ShellGeometry* shells, const geometry::ShellBand* band) const {
+  if (m_fraction.enabled()) return m_fraction.volume();
   const double whole = m_level_set.volume();
   if (shells == nullptr || shells->empty() || band == nullptr) return whole;
   // Each cell a shell cuts counts each side's water with that side's φ (its corners
@@ -643,8 +678,25 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
           known[f] = neumann[f] != 0 ? 2 : set ? 1 : 0;  // 2: a shell's or wall's face
         }
   }
+  if (m_fraction.enabled())
+    for (int a = 0; a < 3; ++a) m_transport[a] = mac.face_velocity(a);
   m_stats.extrapolation =
       m_extrapolation.extrapolate(mac, m_known, m_level_set, m_extrapolation_width, shells, band);
+  if (m_fraction.enabled()) {
+    // F's faces: the projection's next to a liquid cell (divergence free there), the
+    // extrapolated ones between air cells.
+    for (int a = 0; a < 3; ++a) {
+      const Location loc = face_location(a);
+      const auto& u = mac.face_velocity(a);
+      for (std::int64_t f = 0; f < grid.size(loc); ++f) {
+        Eigen::Vector3i c = grid.coordinates(loc, f);
+        bool liquid = c[a] < cells[a] && projection.fluid_cell(grid.index(Location::Cell, c));
+        c[a] -= 1;
+        liquid = liquid || (c[a] >= 0 && projection.fluid_cell(grid.index(Location::Cell, c)));
+        if (!liquid) m_transport[a][f] = u[f];
+      }
+    }
+  }
   m_stats.t_extrapolate = seconds_since(start);
 }
 

@@ -27,6 +27,7 @@
 #include "shellflow/grid_fluid/water/particle_level_set.hpp"
 #include "shellflow/grid_fluid/water/velocity_extrapolation.hpp"
 #include "shellflow/grid_fluid/water/volume_budget.hpp"
+#include "shellflow/grid_fluid/water/volume_fraction.hpp"
 #include "shellflow/grid_fluid/water/water_source.hpp"
 #include "shellflow/sdk/schema.hpp"
 
@@ -60,6 +61,8 @@ class Liquid {
   LevelSet& level_set() { return m_level_set; }
   const LiquidStats& stats() const { return m_stats; }
   const ParticleLevelSet& particles() const { return m_particles; }
+  /// The water fraction per cell ("volume_fraction"; not enabled() when off).
+  const VolumeFraction& fraction() const { return m_fraction; }
   /// The velocities the particles move with, on φ's lattice: the node velocities `nodes`,
   /// or on cells the centres' means of the faces of `mac` (computed now).
   const NodeFields& particle_velocity(const NodeFields& nodes, const MacGrid& mac);
@@ -155,6 +158,9 @@ class Liquid {
 
   LevelSet m_level_set;
   NodeFields m_centre_velocity;  ///< on cells: what φ's rays follow
+  VolumeFraction m_fraction;
+  std::array<std::vector<double>, 3> m_transport;  ///< the faces F moves with (extrapolate())
+  std::int64_t m_fraction_steps = 0;
   std::vector<double> m_scratch;      ///< φ* being advected; after advect(), φ^n
   std::vector<double> m_swept_value;  ///< refill(): their φ^n carried with the shell
   std::vector<double> m_built;    ///< φ as the scene built it, until the first step
