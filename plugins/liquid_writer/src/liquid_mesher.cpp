@@ -34,9 +34,19 @@ void check_fields(const sdk::FieldView& phi, const sdk::FieldView* velocity) {
     throw Error("liquid_writer: the fluid's level set \"" + phi.name +
                 "\" is not a non-empty one-component grid with dx > 0");
   if (velocity == nullptr) return;
-  if (velocity->components != 3 || velocity->dims != phi.dims || velocity->dx != phi.dx ||
-      !velocity->origin.isApprox(phi.origin) || velocity->data[0] == nullptr ||
-      velocity->data[1] == nullptr || velocity->data[2] == nullptr)
+  const bool components = velocity->components == 3 && velocity->data[0] != nullptr &&
+                          velocity->data[1] != nullptr && velocity->data[2] != nullptr &&
+                          velocity->dx > 0.0 && velocity->dims[0] >= 1 && velocity->dims[1] >= 1 &&
+                          velocity->dims[2] >= 1;
+  if (phi.location == sdk::FieldView::Location::Cell) {
+    if (!components)
+      throw Error(
+          "liquid_writer: the fluid's velocity is not a non-empty three-component grid with "
+          "dx > 0");
+    return;
+  }
+  if (!components || velocity->dims != phi.dims || velocity->dx != phi.dx ||
+      !velocity->origin.isApprox(phi.origin))
     throw Error(
         "liquid_writer: the fluid's velocity is not a three-component field on the "
         "level set's nodes");
@@ -64,18 +74,20 @@ double trilinear(const sdk::FieldView& field, int c, const Eigen::Vector3d& x) {
   return value;
 }
 
-/// ψ as a narrow-band level set (Museth 2013): voxel (i,j,k) is node (i,j,k); |ψ| below
-/// the half-width active, deeper water inactive at −background, the rest air.
-openvdb::FloatGrid::Ptr level_set_grid(const std::vector<double>& psi, const sdk::FieldView& phi) {
-  const double dx = phi.dx;
+/// ψ as a narrow-band level set (Museth 2013): voxel (i,j,k) is sample (i,j,k) of
+/// `lattice`; |ψ| below the half-width active, deeper water inactive at −background, the
+/// rest air.
+openvdb::FloatGrid::Ptr level_set_grid(const std::vector<double>& psi, const NodeBox& lattice) {
+  const double dx = lattice.dx;
   const float background = static_cast<float>(kHalfWidth * dx);
   auto grid = openvdb::FloatGrid::create(background);
   auto transform = openvdb::math::Transform::createLinearTransform(dx);
-  transform->postTranslate(openvdb::Vec3d(phi.origin.x(), phi.origin.y(), phi.origin.z()));
+  transform->postTranslate(
+      openvdb::Vec3d(lattice.origin.x(), lattice.origin.y(), lattice.origin.z()));
   grid->setTransform(transform);
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   auto accessor = grid->getAccessor();
-  const auto& dims = phi.dims;
+  const auto& dims = lattice.dims;
   for (int k = 0; k < dims[2]; ++k)
     for (int j = 0; j < dims[1]; ++j)
       for (int i = 0; i < dims[0]; ++i) {
@@ -90,17 +102,46 @@ openvdb::FloatGrid::Ptr level_set_grid(const std::vector<double>& psi, const sdk
 }
 
 /// φ after `iterations` Gaussian passes (OpenVDB LevelSetFilter, which keeps it a signed
-/// distance), read back at the nodes.
-std::vector<double> smoothed(std::vector<double> psi, const sdk::FieldView& phi, int iterations) {
-  auto grid = level_set_grid(psi, phi);
+/// distance), read back at the samples.
+std::vector<double> smoothed(std::vector<double> psi, const NodeBox& lattice, int iterations) {
+  auto grid = level_set_grid(psi, lattice);
   openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
   for (int n = 0; n < iterations; ++n) filter.gaussian(1);
   auto accessor = grid->getConstAccessor();
-  const auto& dims = phi.dims;
+  const auto& dims = lattice.dims;
   for (int k = 0; k < dims[2]; ++k)
     for (int j = 0; j < dims[1]; ++j)
       for (int i = 0; i < dims[0]; ++i)
         psi[node_index(dims, i, j, k)] = accessor.getValue(openvdb::Coord(i, j, k));
+  return psi;
+}
+
+/// Sets each sample of the outer layer of `psi` (a lattice of `dims`) to ghost(φ_b), φ_b
+/// the value of its nearest sample inside that layer.
+template <class Ghost>
+void set_ghosts(std::vector<double>& psi, const std::array<int, 3>& dims, Ghost&& ghost) {
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i) {
+        if (i > 0 && j > 0 && k > 0 && i < dims[0] - 1 && j < dims[1] - 1 && k < dims[2] - 1)
+          continue;
+        const double b =
+            psi[node_index(dims, std::clamp(i, 1, dims[0] - 2), std::clamp(j, 1, dims[1] - 2),
+                           std::clamp(k, 1, dims[2] - 2))];
+        psi[node_index(dims, i, j, k)] = ghost(b);
+      }
+}
+
+/// A cell field's samples inside one ghost layer (dims + 2), each ghost φ_b: the
+/// simulation's continuation beyond the outermost centres.
+std::vector<double> padded(const double* phi, const std::array<int, 3>& dims) {
+  const std::array<int, 3> grown{dims[0] + 2, dims[1] + 2, dims[2] + 2};
+  std::vector<double> psi(static_cast<size_t>(grown[0]) * grown[1] * grown[2]);
+  for (int k = 0; k < dims[2]; ++k)
+    for (int j = 0; j < dims[1]; ++j)
+      for (int i = 0; i < dims[0]; ++i)
+        psi[node_index(grown, i + 1, j + 1, k + 1)] = phi[node_index(dims, i, j, k)];
+  set_ghosts(psi, grown, [](double b) { return b; });
   return psi;
 }
 
@@ -110,15 +151,27 @@ LiquidMesh mesh_liquid(const sdk::FieldView& phi, const sdk::FieldView* velocity
                        sdk::ShellSet shells, const LiquidMeshOptions& options) {
   check_fields(phi, velocity);
   vdb_writer::initialize_openvdb_once();
-  const auto& dims = phi.dims;
-  const size_t count = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
-  std::vector<double> psi(phi.data[0], phi.data[0] + count);
-  if (options.smoothing_iterations > 0)
-    psi = smoothed(std::move(psi), phi, options.smoothing_iterations);
-
-  // The water ends at the box's faces and at the cells the shells touch.
   LiquidMesh mesh;
   const double tau = kClippedValue * phi.dx;
+  // The lattice meshed: a node field's own samples, or a cell field's inside one ghost
+  // layer (see liquid_mesher.hpp). Its outermost samples are air.
+  const bool cells = phi.location == sdk::FieldView::Location::Cell;
+  NodeBox lattice{phi.origin, phi.dx, phi.dims};
+  std::vector<double> psi;
+  if (cells) {
+    lattice.origin.array() -= phi.dx;
+    for (int a = 0; a < 3; ++a) lattice.dims[a] += 2;
+    psi = padded(phi.data[0], phi.dims);
+  } else {
+    psi.assign(phi.data[0],
+               phi.data[0] + static_cast<size_t>(phi.dims[0]) * phi.dims[1] * phi.dims[2]);
+  }
+  if (options.smoothing_iterations > 0)
+    psi = smoothed(std::move(psi), lattice, options.smoothing_iterations);
+  const auto& dims = lattice.dims;
+  if (cells) set_ghosts(psi, dims, [&](double b) { return std::max(-b, tau); });
+
+  // The water ends at the box's faces and at the cells the shells touch.
   const auto clip = [&](int i, int j, int k) {
     double& value = psi[node_index(dims, i, j, k)];
     if (value < tau) {
@@ -131,13 +184,12 @@ LiquidMesh mesh_liquid(const sdk::FieldView& phi, const sdk::FieldView* velocity
       for (int i = 0; i < dims[0]; ++i)
         if (i == 0 || j == 0 || k == 0 || i == dims[0] - 1 || j == dims[1] - 1 || k == dims[2] - 1)
           clip(i, j, k);
-  const std::vector<Eigen::Vector3i> touched =
-      cells_touched_by_shells({phi.origin, phi.dx, dims}, shells);
+  const std::vector<Eigen::Vector3i> touched = cells_touched_by_shells(lattice, shells);
   for (const Eigen::Vector3i& c : touched)
     for (int corner = 0; corner < 8; ++corner)
       clip(c.x() + (corner & 1), c.y() + ((corner >> 1) & 1), c.z() + (corner >> 2));
 
-  const auto grid = level_set_grid(psi, phi);
+  const auto grid = level_set_grid(psi, lattice);
   openvdb::tools::VolumeToMesh mesher(/*isovalue=*/0.0, options.adaptivity);
   if (options.adaptivity > 0.0 && !touched.empty()) {
     auto mask = std::make_shared<openvdb::BoolTree>(false);
