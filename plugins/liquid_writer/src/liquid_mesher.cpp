@@ -22,6 +22,10 @@ constexpr double kClippedValue = 1e-3;
 constexpr double kHalfWidth = 3.0;
 /// Cells about a touched cell kept from merging when adaptive [cells].
 constexpr int kUnmergedRing = 2;
+/// Ghost layers about a cell field in a smoothing pass: a pass filters and renormalises
+/// (OpenVDB's LevelSetTracker), which reaches beyond the filter's 1-voxel radius
+/// (liquid_mesher_test: a pool against the walls, smoothed).
+constexpr int kSmoothingGhostLayers = 5;
 
 size_t node_index(const std::array<int, 3>& dims, int i, int j, int k) {
   return static_cast<size_t>(i) +
@@ -116,33 +120,31 @@ std::vector<double> smoothed(std::vector<double> psi, const NodeBox& lattice, in
   return psi;
 }
 
-/// Sets each sample of the outer layer of `psi` (a lattice of `dims`) to ghost(φ_b), φ_b
-/// the value of its nearest sample inside that layer.
-template <class Ghost>
-void set_ghosts(std::vector<double>& psi, const std::array<int, 3>& dims, Ghost&& ghost) {
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i) {
-        if (i > 0 && j > 0 && k > 0 && i < dims[0] - 1 && j < dims[1] - 1 && k < dims[2] - 1)
-          continue;
-        const double b =
-            psi[node_index(dims, std::clamp(i, 1, dims[0] - 2), std::clamp(j, 1, dims[1] - 2),
-                           std::clamp(k, 1, dims[2] - 2))];
-        psi[node_index(dims, i, j, k)] = ghost(b);
-      }
+/// A cell field's samples inside `layers` ghost layers (dims + 2 layers per axis), each
+/// ghost the value of its nearest sample: φ continued constant beyond the outermost
+/// centres, as the simulation continues it.
+std::vector<double> grown(const double* phi, const std::array<int, 3>& dims, int layers) {
+  const std::array<int, 3> n{dims[0] + 2 * layers, dims[1] + 2 * layers, dims[2] + 2 * layers};
+  std::vector<double> psi(static_cast<size_t>(n[0]) * n[1] * n[2]);
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i)
+        psi[node_index(n, i, j, k)] = phi[node_index(dims, std::clamp(i - layers, 0, dims[0] - 1),
+                                                     std::clamp(j - layers, 0, dims[1] - 1),
+                                                     std::clamp(k - layers, 0, dims[2] - 1))];
+  return psi;
 }
 
-/// A cell field's samples inside one ghost layer (dims + 2), each ghost φ_b: the
-/// simulation's continuation beyond the outermost centres.
-std::vector<double> padded(const double* phi, const std::array<int, 3>& dims) {
-  const std::array<int, 3> grown{dims[0] + 2, dims[1] + 2, dims[2] + 2};
-  std::vector<double> psi(static_cast<size_t>(grown[0]) * grown[1] * grown[2]);
-  for (int k = 0; k < dims[2]; ++k)
-    for (int j = 0; j < dims[1]; ++j)
-      for (int i = 0; i < dims[0]; ++i)
-        psi[node_index(grown, i + 1, j + 1, k + 1)] = phi[node_index(dims, i, j, k)];
-  set_ghosts(psi, grown, [](double b) { return b; });
-  return psi;
+/// The block of `psi` (a lattice of `dims`) less `margin` samples on every side.
+std::vector<double> cropped(const std::vector<double>& psi, const std::array<int, 3>& dims,
+                            int margin) {
+  const std::array<int, 3> n{dims[0] - 2 * margin, dims[1] - 2 * margin, dims[2] - 2 * margin};
+  std::vector<double> out(static_cast<size_t>(n[0]) * n[1] * n[2]);
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i)
+        out[node_index(n, i, j, k)] = psi[node_index(dims, i + margin, j + margin, k + margin)];
+  return out;
 }
 
 }  // namespace
@@ -161,15 +163,38 @@ LiquidMesh mesh_liquid(const sdk::FieldView& phi, const sdk::FieldView* velocity
   if (cells) {
     lattice.origin.array() -= phi.dx;
     for (int a = 0; a < 3; ++a) lattice.dims[a] += 2;
-    psi = padded(phi.data[0], phi.dims);
+    if (options.smoothing_iterations > 0) {
+      // Each pass sees φ continued constant beyond the centres, as the simulation does,
+      // deep enough that what it assumes beyond the samples (air) never reaches them.
+      constexpr int layers = kSmoothingGhostLayers;
+      NodeBox wide{phi.origin.array() - layers * phi.dx, phi.dx, phi.dims};
+      for (int a = 0; a < 3; ++a) wide.dims[a] += 2 * layers;
+      std::vector<double> centres(
+          phi.data[0], phi.data[0] + static_cast<size_t>(phi.dims[0]) * phi.dims[1] * phi.dims[2]);
+      for (int pass = 0; pass < options.smoothing_iterations; ++pass)
+        centres =
+            cropped(smoothed(grown(centres.data(), phi.dims, layers), wide, 1), wide.dims, layers);
+      psi = grown(centres.data(), phi.dims, 1);
+    } else {
+      psi = grown(phi.data[0], phi.dims, 1);
+    }
+    // The ghosts: a wet first cell's φ mirrored, a dry one's air.
+    const std::array<int, 3>& n = lattice.dims;
+    for (int k = 0; k < n[2]; ++k)
+      for (int j = 0; j < n[1]; ++j)
+        for (int i = 0; i < n[0]; ++i) {
+          if (i > 0 && j > 0 && k > 0 && i < n[0] - 1 && j < n[1] - 1 && k < n[2] - 1) continue;
+          const double b = psi[node_index(n, std::clamp(i, 1, n[0] - 2), std::clamp(j, 1, n[1] - 2),
+                                          std::clamp(k, 1, n[2] - 2))];
+          psi[node_index(n, i, j, k)] = std::max(-b, tau);
+        }
   } else {
     psi.assign(phi.data[0],
                phi.data[0] + static_cast<size_t>(phi.dims[0]) * phi.dims[1] * phi.dims[2]);
+    if (options.smoothing_iterations > 0)
+      psi = smoothed(std::move(psi), lattice, options.smoothing_iterations);
   }
-  if (options.smoothing_iterations > 0)
-    psi = smoothed(std::move(psi), lattice, options.smoothing_iterations);
   const auto& dims = lattice.dims;
-  if (cells) set_ghosts(psi, dims, [&](double b) { return std::max(-b, tau); });
 
   // The water ends at the box's faces and at the cells the shells touch.
   const auto clip = [&](int i, int j, int k) {
