@@ -147,6 +147,38 @@ std::vector<double> cropped(const std::vector<double>& psi, const std::array<int
   return out;
 }
 
+/// The samples a cell field is meshed on: its centres, smoothed by `smoothing` passes,
+/// inside one layer of ghosts max(−φ_b, τ) (see liquid_mesher.hpp).
+std::vector<double> cell_samples(const sdk::FieldView& phi, int smoothing, double tau) {
+  std::vector<double> psi;
+  const std::array<int, 3> n{phi.dims[0] + 2, phi.dims[1] + 2, phi.dims[2] + 2};
+  if (smoothing > 0) {
+    // Each pass sees φ continued constant beyond the centres, as the simulation does,
+    // deep enough that what it assumes beyond the samples (air) never reaches them.
+    constexpr int layers = kSmoothingGhostLayers;
+    NodeBox wide{phi.origin.array() - layers * phi.dx, phi.dx, phi.dims};
+    for (int a = 0; a < 3; ++a) wide.dims[a] += 2 * layers;
+    std::vector<double> centres(
+        phi.data[0], phi.data[0] + static_cast<size_t>(phi.dims[0]) * phi.dims[1] * phi.dims[2]);
+    for (int pass = 0; pass < smoothing; ++pass)
+      centres =
+          cropped(smoothed(grown(centres.data(), phi.dims, layers), wide, 1), wide.dims, layers);
+    psi = grown(centres.data(), phi.dims, 1);
+  } else {
+    psi = grown(phi.data[0], phi.dims, 1);
+  }
+  // The ghosts: a wet first cell's φ mirrored, a dry one's air.
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        if (i > 0 && j > 0 && k > 0 && i < n[0] - 1 && j < n[1] - 1 && k < n[2] - 1) continue;
+        const double b = psi[node_index(n, std::clamp(i, 1, n[0] - 2), std::clamp(j, 1, n[1] - 2),
+                                        std::clamp(k, 1, n[2] - 2))];
+        psi[node_index(n, i, j, k)] = std::max(-b, tau);
+      }
+  return psi;
+}
+
 }  // namespace
 
 LiquidMesh mesh_liquid(const sdk::FieldView& phi, const sdk::FieldView* velocity,
@@ -163,31 +195,7 @@ LiquidMesh mesh_liquid(const sdk::FieldView& phi, const sdk::FieldView* velocity
   if (cells) {
     lattice.origin.array() -= phi.dx;
     for (int a = 0; a < 3; ++a) lattice.dims[a] += 2;
-    if (options.smoothing_iterations > 0) {
-      // Each pass sees φ continued constant beyond the centres, as the simulation does,
-      // deep enough that what it assumes beyond the samples (air) never reaches them.
-      constexpr int layers = kSmoothingGhostLayers;
-      NodeBox wide{phi.origin.array() - layers * phi.dx, phi.dx, phi.dims};
-      for (int a = 0; a < 3; ++a) wide.dims[a] += 2 * layers;
-      std::vector<double> centres(
-          phi.data[0], phi.data[0] + static_cast<size_t>(phi.dims[0]) * phi.dims[1] * phi.dims[2]);
-      for (int pass = 0; pass < options.smoothing_iterations; ++pass)
-        centres =
-            cropped(smoothed(grown(centres.data(), phi.dims, layers), wide, 1), wide.dims, layers);
-      psi = grown(centres.data(), phi.dims, 1);
-    } else {
-      psi = grown(phi.data[0], phi.dims, 1);
-    }
-    // The ghosts: a wet first cell's φ mirrored, a dry one's air.
-    const std::array<int, 3>& n = lattice.dims;
-    for (int k = 0; k < n[2]; ++k)
-      for (int j = 0; j < n[1]; ++j)
-        for (int i = 0; i < n[0]; ++i) {
-          if (i > 0 && j > 0 && k > 0 && i < n[0] - 1 && j < n[1] - 1 && k < n[2] - 1) continue;
-          const double b = psi[node_index(n, std::clamp(i, 1, n[0] - 2), std::clamp(j, 1, n[1] - 2),
-                                          std::clamp(k, 1, n[2] - 2))];
-          psi[node_index(n, i, j, k)] = std::max(-b, tau);
-        }
+    psi = cell_samples(phi, options.smoothing_iterations, tau);
   } else {
     psi.assign(phi.data[0],
                phi.data[0] + static_cast<size_t>(phi.dims[0]) * phi.dims[1] * phi.dims[2]);
