@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "shellflow/grid_fluid/mac/ordered_sum.hpp"
+#include "shellflow/grid_fluid/water/level_set_state.hpp"
 #include "shellflow/grid_fluid/water/water_energy.hpp"
 #include "shellflow/sdk/error.hpp"
 #include "shellflow/sdk/json_helpers.hpp"
@@ -540,7 +541,7 @@ void GridFluid::save(sdk::StateWriter& out) const {
   out.write(m_coupling != nullptr);
   if (m_coupling) write_vector(m_coupling->scaled_pressure());
   if (m_liquid) {
-    write_vector(m_liquid->level_set().phi());
+    save_level_set(out, m_liquid->level_set());
     m_liquid->particles().save(out);
   }
   // What stable_dt() reads besides the fields: the shells' speed of the last projection
@@ -578,7 +579,7 @@ void GridFluid::restore(sdk::StateReader& in) {
   read_vector(m_projection.scaled_pressure());
   if (in.read<bool>()) read_vector(coupling_pressure().scaled_pressure());
   if (m_liquid) {
-    read_vector(m_liquid->level_set().phi());
+    restore_level_set(in, m_liquid->level_set());
     m_liquid->particles().restore(in);
   }
   m_shell_speed = in.read<double>();

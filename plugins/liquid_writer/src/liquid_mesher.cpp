@@ -22,6 +22,10 @@ constexpr double kClippedValue = 1e-3;
 constexpr double kHalfWidth = 3.0;
 /// Cells about a touched cell kept from merging when adaptive [cells].
 constexpr int kUnmergedRing = 2;
+/// Ghost layers about a cell field in a smoothing pass: a pass filters and renormalises
+/// (OpenVDB's LevelSetTracker), which reaches beyond the filter's 1-voxel radius
+/// (liquid_mesher_test: a pool against the walls, smoothed).
+constexpr int kSmoothingGhostLayers = 5;
 
 size_t node_index(const std::array<int, 3>& dims, int i, int j, int k) {
   return static_cast<size_t>(i) +
@@ -34,9 +38,19 @@ void check_fields(const sdk::FieldView& phi, const sdk::FieldView* velocity) {
     throw Error("liquid_writer: the fluid's level set \"" + phi.name +
                 "\" is not a non-empty one-component grid with dx > 0");
   if (velocity == nullptr) return;
-  if (velocity->components != 3 || velocity->dims != phi.dims || velocity->dx != phi.dx ||
-      !velocity->origin.isApprox(phi.origin) || velocity->data[0] == nullptr ||
-      velocity->data[1] == nullptr || velocity->data[2] == nullptr)
+  const bool components = velocity->components == 3 && velocity->data[0] != nullptr &&
+                          velocity->data[1] != nullptr && velocity->data[2] != nullptr &&
+                          velocity->dx > 0.0 && velocity->dims[0] >= 1 && velocity->dims[1] >= 1 &&
+                          velocity->dims[2] >= 1;
+  if (phi.location == sdk::FieldView::Location::Cell) {
+    if (!components)
+      throw Error(
+          "liquid_writer: the fluid's velocity is not a non-empty three-component grid with "
+          "dx > 0");
+    return;
+  }
+  if (!components || velocity->dims != phi.dims || velocity->dx != phi.dx ||
+      !velocity->origin.isApprox(phi.origin))
     throw Error(
         "liquid_writer: the fluid's velocity is not a three-component field on the "
         "level set's nodes");
@@ -64,18 +78,20 @@ double trilinear(const sdk::FieldView& field, int c, const Eigen::Vector3d& x) {
   return value;
 }
 
-/// ψ as a narrow-band level set (Museth 2013): voxel (i,j,k) is node (i,j,k); |ψ| below
-/// the half-width active, deeper water inactive at −background, the rest air.
-openvdb::FloatGrid::Ptr level_set_grid(const std::vector<double>& psi, const sdk::FieldView& phi) {
-  const double dx = phi.dx;
+/// ψ as a narrow-band level set (Museth 2013): voxel (i,j,k) is sample (i,j,k) of
+/// `lattice`; |ψ| below the half-width active, deeper water inactive at −background, the
+/// rest air.
+openvdb::FloatGrid::Ptr level_set_grid(const std::vector<double>& psi, const NodeBox& lattice) {
+  const double dx = lattice.dx;
   const float background = static_cast<float>(kHalfWidth * dx);
   auto grid = openvdb::FloatGrid::create(background);
   auto transform = openvdb::math::Transform::createLinearTransform(dx);
-  transform->postTranslate(openvdb::Vec3d(phi.origin.x(), phi.origin.y(), phi.origin.z()));
+  transform->postTranslate(
+      openvdb::Vec3d(lattice.origin.x(), lattice.origin.y(), lattice.origin.z()));
   grid->setTransform(transform);
   grid->setGridClass(openvdb::GRID_LEVEL_SET);
   auto accessor = grid->getAccessor();
-  const auto& dims = phi.dims;
+  const auto& dims = lattice.dims;
   for (int k = 0; k < dims[2]; ++k)
     for (int j = 0; j < dims[1]; ++j)
       for (int i = 0; i < dims[0]; ++i) {
@@ -90,17 +106,76 @@ openvdb::FloatGrid::Ptr level_set_grid(const std::vector<double>& psi, const sdk
 }
 
 /// φ after `iterations` Gaussian passes (OpenVDB LevelSetFilter, which keeps it a signed
-/// distance), read back at the nodes.
-std::vector<double> smoothed(std::vector<double> psi, const sdk::FieldView& phi, int iterations) {
-  auto grid = level_set_grid(psi, phi);
+/// distance), read back at the samples.
+std::vector<double> smoothed(std::vector<double> psi, const NodeBox& lattice, int iterations) {
+  auto grid = level_set_grid(psi, lattice);
   openvdb::tools::LevelSetFilter<openvdb::FloatGrid> filter(*grid);
   for (int n = 0; n < iterations; ++n) filter.gaussian(1);
   auto accessor = grid->getConstAccessor();
-  const auto& dims = phi.dims;
+  const auto& dims = lattice.dims;
   for (int k = 0; k < dims[2]; ++k)
     for (int j = 0; j < dims[1]; ++j)
       for (int i = 0; i < dims[0]; ++i)
         psi[node_index(dims, i, j, k)] = accessor.getValue(openvdb::Coord(i, j, k));
+  return psi;
+}
+
+/// A cell field's samples inside `layers` ghost layers (dims + 2 layers per axis), each
+/// ghost the value of its nearest sample: φ continued constant beyond the outermost
+/// centres, as the simulation continues it.
+std::vector<double> grown(const double* phi, const std::array<int, 3>& dims, int layers) {
+  const std::array<int, 3> n{dims[0] + 2 * layers, dims[1] + 2 * layers, dims[2] + 2 * layers};
+  std::vector<double> psi(static_cast<size_t>(n[0]) * n[1] * n[2]);
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i)
+        psi[node_index(n, i, j, k)] = phi[node_index(dims, std::clamp(i - layers, 0, dims[0] - 1),
+                                                     std::clamp(j - layers, 0, dims[1] - 1),
+                                                     std::clamp(k - layers, 0, dims[2] - 1))];
+  return psi;
+}
+
+/// The block of `psi` (a lattice of `dims`) less `margin` samples on every side.
+std::vector<double> cropped(const std::vector<double>& psi, const std::array<int, 3>& dims,
+                            int margin) {
+  const std::array<int, 3> n{dims[0] - 2 * margin, dims[1] - 2 * margin, dims[2] - 2 * margin};
+  std::vector<double> out(static_cast<size_t>(n[0]) * n[1] * n[2]);
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i)
+        out[node_index(n, i, j, k)] = psi[node_index(dims, i + margin, j + margin, k + margin)];
+  return out;
+}
+
+/// The samples a cell field is meshed on: its centres, smoothed by `smoothing` passes,
+/// inside one layer of ghosts max(−φ_b, τ) (see liquid_mesher.hpp).
+std::vector<double> cell_samples(const sdk::FieldView& phi, int smoothing, double tau) {
+  std::vector<double> psi;
+  const std::array<int, 3> n{phi.dims[0] + 2, phi.dims[1] + 2, phi.dims[2] + 2};
+  if (smoothing > 0) {
+    // Each pass sees φ continued constant beyond the centres, as the simulation does,
+    // deep enough that what it assumes beyond the samples (air) never reaches them.
+    constexpr int layers = kSmoothingGhostLayers;
+    NodeBox wide{phi.origin.array() - layers * phi.dx, phi.dx, phi.dims};
+    for (int a = 0; a < 3; ++a) wide.dims[a] += 2 * layers;
+    std::vector<double> centres(
+        phi.data[0], phi.data[0] + static_cast<size_t>(phi.dims[0]) * phi.dims[1] * phi.dims[2]);
+    for (int pass = 0; pass < smoothing; ++pass)
+      centres =
+          cropped(smoothed(grown(centres.data(), phi.dims, layers), wide, 1), wide.dims, layers);
+    psi = grown(centres.data(), phi.dims, 1);
+  } else {
+    psi = grown(phi.data[0], phi.dims, 1);
+  }
+  // The ghosts: a wet first cell's φ mirrored, a dry one's air.
+  for (int k = 0; k < n[2]; ++k)
+    for (int j = 0; j < n[1]; ++j)
+      for (int i = 0; i < n[0]; ++i) {
+        if (i > 0 && j > 0 && k > 0 && i < n[0] - 1 && j < n[1] - 1 && k < n[2] - 1) continue;
+        const double b = psi[node_index(n, std::clamp(i, 1, n[0] - 2), std::clamp(j, 1, n[1] - 2),
+                                        std::clamp(k, 1, n[2] - 2))];
+        psi[node_index(n, i, j, k)] = std::max(-b, tau);
+      }
   return psi;
 }
 
@@ -110,15 +185,26 @@ LiquidMesh mesh_liquid(const sdk::FieldView& phi, const sdk::FieldView* velocity
                        sdk::ShellSet shells, const LiquidMeshOptions& options) {
   check_fields(phi, velocity);
   vdb_writer::initialize_openvdb_once();
-  const auto& dims = phi.dims;
-  const size_t count = static_cast<size_t>(dims[0]) * dims[1] * dims[2];
-  std::vector<double> psi(phi.data[0], phi.data[0] + count);
-  if (options.smoothing_iterations > 0)
-    psi = smoothed(std::move(psi), phi, options.smoothing_iterations);
-
-  // The water ends at the box's faces and at the cells the shells touch.
   LiquidMesh mesh;
   const double tau = kClippedValue * phi.dx;
+  // The lattice meshed: a node field's own samples, or a cell field's inside one ghost
+  // layer (see liquid_mesher.hpp). Its outermost samples are air.
+  const bool cells = phi.location == sdk::FieldView::Location::Cell;
+  NodeBox lattice{phi.origin, phi.dx, phi.dims};
+  std::vector<double> psi;
+  if (cells) {
+    lattice.origin.array() -= phi.dx;
+    for (int a = 0; a < 3; ++a) lattice.dims[a] += 2;
+    psi = cell_samples(phi, options.smoothing_iterations, tau);
+  } else {
+    psi.assign(phi.data[0],
+               phi.data[0] + static_cast<size_t>(phi.dims[0]) * phi.dims[1] * phi.dims[2]);
+    if (options.smoothing_iterations > 0)
+      psi = smoothed(std::move(psi), lattice, options.smoothing_iterations);
+  }
+  const auto& dims = lattice.dims;
+
+  // The water ends at the box's faces and at the cells the shells touch.
   const auto clip = [&](int i, int j, int k) {
     double& value = psi[node_index(dims, i, j, k)];
     if (value < tau) {
@@ -131,13 +217,12 @@ LiquidMesh mesh_liquid(const sdk::FieldView& phi, const sdk::FieldView* velocity
       for (int i = 0; i < dims[0]; ++i)
         if (i == 0 || j == 0 || k == 0 || i == dims[0] - 1 || j == dims[1] - 1 || k == dims[2] - 1)
           clip(i, j, k);
-  const std::vector<Eigen::Vector3i> touched =
-      cells_touched_by_shells({phi.origin, phi.dx, dims}, shells);
+  const std::vector<Eigen::Vector3i> touched = cells_touched_by_shells(lattice, shells);
   for (const Eigen::Vector3i& c : touched)
     for (int corner = 0; corner < 8; ++corner)
       clip(c.x() + (corner & 1), c.y() + ((corner >> 1) & 1), c.z() + (corner >> 2));
 
-  const auto grid = level_set_grid(psi, phi);
+  const auto grid = level_set_grid(psi, lattice);
   openvdb::tools::VolumeToMesh mesher(/*isovalue=*/0.0, options.adaptivity);
   if (options.adaptivity > 0.0 && !touched.empty()) {
     auto mask = std::make_shared<openvdb::BoolTree>(false);

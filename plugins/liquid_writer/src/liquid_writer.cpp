@@ -126,13 +126,15 @@ void LiquidWriter::write_frame(const sdk::FrameView& frame) {
   const sdk::FieldView* phi = nullptr;
   const sdk::FieldView* velocity = nullptr;
   for (const auto& f : fields) {
-    if (f.name == "phi" && f.components == 1 && f.location == sdk::FieldView::Location::Node)
-      phi = &f;
+    if (f.name == "phi" && f.components == 1) phi = &f;  // on the nodes or the cell centres
     if (f.name == "velocity" && f.components == 3 && f.location == sdk::FieldView::Location::Node)
       velocity = &f;
   }
   if (phi == nullptr) return;  // no water
-  if (velocity != nullptr && velocity->dims != phi->dims) velocity = nullptr;
+  // A node φ takes the velocity on its own nodes; a cell φ samples it at the vertices.
+  if (velocity != nullptr && phi->location == sdk::FieldView::Location::Node &&
+      velocity->dims != phi->dims)
+    velocity = nullptr;
   if (m_obj || m_ply) write_mesh(frame, *phi, velocity);
   if (!m_particle_sets.empty() && (m_particle_ply || m_particle_vdb))
     write_particles(frame, phi->dx);

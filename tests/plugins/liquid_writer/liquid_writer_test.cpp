@@ -23,13 +23,16 @@ namespace {
 using testing::NodeGrid;
 
 /// A water fluid double: a sphere of water (R = 0.25, 16^3 unit box) moving at (1, 2, 3)
-/// m/s, and a spray set of three drops.
+/// m/s, and a spray set of three drops. φ on the nodes, or with `cells` on the cell
+/// centres (as grid_fluid's layout "cells" publishes it; the velocity stays on the nodes).
 class WaterDouble final : public sdk::FluidSolver {
  public:
-  explicit WaterDouble(bool water = true)
-      : m_phi(Eigen::Vector3d::Zero(), 1.0 / 16, {17, 17, 17}, 1),
+  explicit WaterDouble(bool water = true, bool cells = false)
+      : m_phi(cells ? Eigen::Vector3d::Constant(0.5 / 16) : Eigen::Vector3d::Zero(), 1.0 / 16,
+              cells ? std::array<int, 3>{16, 16, 16} : std::array<int, 3>{17, 17, 17}, 1),
         m_velocity(Eigen::Vector3d::Zero(), 1.0 / 16, {17, 17, 17}, 3),
         m_water(water) {
+    if (cells) m_phi.location = sdk::FieldView::Location::Cell;
     m_phi.fill(0, [](const Eigen::Vector3d& x) {
       return (x - Eigen::Vector3d::Constant(0.5)).norm() - 0.25;
     });
@@ -123,6 +126,30 @@ TEST_F(LiquidWriterTest, WritesTheSurfaceAndTheSprayOfAWrittenFrame) {
   EXPECT_EQ(spray.value(0, "radius"), 0.1f);
   std::ifstream air_in(folder / "pool_air_particles_0004.ply", std::ios::binary);
   EXPECT_EQ(testing::read_ply(air_in).vertex_count, 0u);  // the double has none
+}
+
+TEST_F(LiquidWriterTest, MeshesACellCentredLevelSetWithTheNodeVelocity) {
+  // The sphere's φ on the 16^3 cell centres, the velocity on the 17^3 nodes: the writer
+  // takes φ at the cells and samples the velocity at each vertex's position.
+  const WaterDouble fluid(true, true);
+  LiquidWriter writer({{"mesh", {"ply"}}, {"particle_formats", nlohmann::json::array()}}, {});
+  writer.begin(run_info());
+  writer.write_frame({0, 0.0, {}, &fluid});
+  std::ifstream in(m_out / "liquid" / "pool_surface_0000.ply", std::ios::binary);
+  ASSERT_TRUE(in.good());
+  const testing::PlyFile ply = testing::read_ply(in);
+  ASSERT_GT(ply.vertex_count, 200u);
+  sdk::Triangles triangles(static_cast<Eigen::Index>(ply.faces.size() / 3), 3);
+  for (size_t f = 0; f < ply.faces.size(); ++f) triangles(f / 3, f % 3) = ply.faces[f];
+  EXPECT_TRUE(testing::closed_and_consistently_wound(triangles));
+  for (size_t v = 0; v < ply.vertex_count; ++v) {
+    // Uniform velocity: exact at every vertex; each vertex within a cell of the sphere.
+    EXPECT_EQ(ply.value(v, "vx"), 1.0f);
+    EXPECT_EQ(ply.value(v, "vy"), 2.0f);
+    EXPECT_EQ(ply.value(v, "vz"), 3.0f);
+    const Eigen::Vector3d x(ply.value(v, "x"), ply.value(v, "y"), ply.value(v, "z"));
+    EXPECT_NEAR((x - Eigen::Vector3d::Constant(0.5)).norm(), 0.25, std::sqrt(3.0) / 16);
+  }
 }
 
 TEST_F(LiquidWriterTest, WritesNothingForAFluidWithoutALevelSet) {

@@ -14,8 +14,10 @@
 
 namespace shellflow::liquid_writer::testing {
 
-/// A node field owned by a test, shown as an sdk::FieldView.
+/// A grid field owned by a test, shown as an sdk::FieldView: node samples unless
+/// `location` says they are cell centres.
 struct NodeGrid {
+  sdk::FieldView::Location location = sdk::FieldView::Location::Node;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();
   double dx = 1.0;
   std::array<int, 3> dims{0, 0, 0};
@@ -36,7 +38,7 @@ struct NodeGrid {
   sdk::FieldView view(const std::string& name) const {
     sdk::FieldView v;
     v.name = name;
-    v.location = sdk::FieldView::Location::Node;
+    v.location = location;
     v.origin = origin;
     v.dx = dx;
     v.dims = dims;

@@ -221,6 +221,29 @@ TEST(PreviewRenderer, WaterBallIsShadedWaterOnTheBackground) {
   expect_pixel(image, 0, 0, s.background_color, kQuantisation);
 }
 
+TEST(PreviewRenderer, ACellCentredPoolShowsItsWaterBelowTheFirstCentres) {
+  // A pool one cell deep on cell centres (grid_fluid's layout "cells": 40^3 cells of
+  // kWaterDx filling [-0.8, 0.8]^3), φ = y − (floor + 0.75 dx), seen from the side with the
+  // eye a quarter cell above the floor, below the first centres. The centre pixel's ray
+  // meets the water on the near face z = 0.8, head on: (1 − F0) water + F0 rim, as the
+  // ball's pole. The pixel above passes 0.056 m higher at that face, over the water's top
+  // (0.03 above the floor): the background.
+  const double floor = -0.8;
+  SyntheticFluid fluid;
+  auto& phi = fluid.add("phi", sdk::FieldView::Location::Cell,
+                        Eigen::Vector3d::Constant(-0.8 + 0.5 * kWaterDx), kWaterDx,
+                        {kWaterNodes - 1, kWaterNodes - 1, kWaterNodes - 1}, 1);
+  phi.fill(0, [&](const Eigen::Vector3d& x) { return x.y() - (floor + 0.75 * kWaterDx); });
+  PreviewSettings s = water_settings();
+  s.camera_position = {0.0, floor + 0.25 * kWaterDx, 3.0};
+  s.look_at = {0.0, floor + 0.25 * kWaterDx, 0.0};
+  const PreviewRenderer renderer(s);
+  const RgbImage image = renderer.render({0, 0.0, {}, &fluid});
+  expect_pixel(image, kCentreX, kCentreY, 0.98 * s.water_color + 0.02 * s.water_rim_color,
+               kQuantisation);
+  expect_pixel(image, kCentreX, kCentreY - 1, s.background_color, kQuantisation);
+}
+
 TEST(PreviewRenderer, ShellInFrontHidesTheWater) {
   SyntheticFluid fluid;
   add_water_ball(fluid);

@@ -119,6 +119,40 @@ TEST(WaterSurface, WaterAgainstTheBoxFaceIsHitOnTheFace) {
   EXPECT_NEAR(top.normal.y(), 1.0, 1e-12);
 }
 
+TEST(WaterSurface, ACellCentredPoolIsHitInTheHalfCellStripAtTheWalls) {
+  // A pool one cell deep on cell centres (the layout "cells" of grid_fluid: 40^3 cells of
+  // kWaterDx filling [-0.8, 0.8]^3, origin the first centre): its water lies in the first
+  // layer, φ = y − (floor + 0.75 dx). Seen from the side a quarter cell above the floor,
+  // below the first centres, where φ continues constant to the wall: the ray meets water
+  // at the face x = -0.8, facing -x. With the box of the samples alone it would pass
+  // under them and see nothing.
+  const double floor = -0.8, top = floor + 0.75 * kWaterDx;
+  SyntheticFluid fluid;
+  auto& phi = fluid.add("phi", sdk::FieldView::Location::Cell,
+                        Eigen::Vector3d::Constant(-0.8 + 0.5 * kWaterDx), kWaterDx,
+                        {kWaterNodes - 1, kWaterNodes - 1, kWaterNodes - 1}, 1);
+  phi.fill(0, [&](const Eigen::Vector3d& x) { return x.y() - top; });
+  const WaterSurface water(fluid.fields()[0]);
+  const double strip = floor + 0.25 * kWaterDx;
+  const WaterHit side = water.first_hit({-3.0, strip, 0.05}, {1.0, 0.0, 0.0}, 1e9, kStep);
+  ASSERT_TRUE(side.hit());
+  EXPECT_NEAR(side.distance, 2.2, 1e-12);  // the face x = -0.8: 2.2 from x = -3
+  EXPECT_EQ(side.normal, Eigen::Vector3d(-1.0, 0.0, 0.0));
+  // Along the wall's strip, from the far corner: water at once, at the face z = 0.8.
+  const WaterHit along =
+      water.first_hit({-0.8 + 0.25 * kWaterDx, strip, 3.0}, {0.0, 0.0, -1.0}, 1e9, kStep);
+  ASSERT_TRUE(along.hit());
+  EXPECT_NEAR(along.distance, 2.2, 1e-12);
+  // From above, the top at floor + 0.75 dx (φ linear in y between the first two layers of
+  // centres: exact), not at the first centres.
+  const WaterHit from_above = water.first_hit({0.1, 2.0, 0.05}, {0.0, -1.0, 0.0}, 1e9, kStep);
+  ASSERT_TRUE(from_above.hit());
+  EXPECT_NEAR(from_above.distance, 2.0 - top, kRefinement);
+  // Just above the water's top, along the same side: air.
+  EXPECT_FALSE(
+      water.first_hit({-3.0, top + 0.1 * kWaterDx, 0.05}, {1.0, 0.0, 0.0}, 1e9, kStep).hit());
+}
+
 TEST(WaterSurface, RejectsAVectorField) {
   SyntheticFluid fluid;
   fluid.add("phi", sdk::FieldView::Location::Node, Eigen::Vector3d::Zero(), 0.1, {4, 4, 4}, 3);

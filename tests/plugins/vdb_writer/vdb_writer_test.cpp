@@ -346,6 +346,49 @@ TEST_F(VdbWriterTest, PoolInteriorIsStoredAsInsideTilesAndANarrowFluidBandSetsTh
   EXPECT_EQ(accessor.getValue(openvdb::Coord(21, 2, 5)), surface->background());
 }
 
+TEST_F(VdbWriterTest, ACellCentredLevelSetIsWrittenOnTheCellCentres) {
+  // grid_fluid's layout "cells": φ on the centres of 30 x 28 x 26 cells of dx = 0.04 whose
+  // box starts at `corner` (origin the first centre, half a cell in), a pool whose surface
+  // lies 2.3 cells above the floor, φ = y − surface clamped to ±4 dx. Voxel (i,j,k) is
+  // cell (i,j,k): its centre at the cell's centre, its faces on the cell's faces, so the
+  // voxels tile the domain box and the file says "cell".
+  SyntheticFluid fluid;
+  const double dx = 0.04;
+  const Eigen::Vector3d corner(-0.5, 0.1, -0.45);
+  const double surface_y = corner.y() + 2.3 * dx;
+  const std::array<int, 3> cells{30, 28, 26};
+  auto& phi = fluid.add("phi", Location::Cell, corner.array() + 0.5 * dx, dx, cells, 1);
+  phi.fill(0, [&](const Eigen::Vector3d& x) {
+    return std::clamp(x.y() - surface_y, -4.0 * dx, 4.0 * dx);
+  });
+  auto writer = make_writer(0.0);  // level_set_half_width 3 voxels
+  writer.begin({m_out, "pool", 24.0});
+  writer.write_frame({0, 0.0, {}, &fluid});
+  auto grids = read_grids(m_out / "volumes" / "pool_0000.vdb");
+  auto surface = openvdb::gridPtrCast<openvdb::FloatGrid>(grids["surface"]);
+  ASSERT_TRUE(surface);
+  EXPECT_EQ(surface->getGridClass(), openvdb::GRID_LEVEL_SET);
+  EXPECT_EQ(surface->metaValue<std::string>("shellflow_sample_location"), "cell");
+  expect_transform(*surface, phi);
+  // The voxels' outer faces are the domain's walls.
+  const openvdb::Vec3d lower = surface->indexToWorld(openvdb::Vec3d(-0.5, -0.5, -0.5));
+  const openvdb::Vec3d upper =
+      surface->indexToWorld(openvdb::Vec3d(cells[0] - 0.5, cells[1] - 0.5, cells[2] - 0.5));
+  for (int a = 0; a < 3; ++a) {
+    EXPECT_NEAR(lower[a], corner[a], kTransformTolerance);
+    EXPECT_NEAR(upper[a], corner[a] + dx * cells[a], kTransformTolerance);
+  }
+  openvdb::Index64 band = 0;
+  expect_narrow_band(*surface, phi, band);
+  // The centre layers within 3 dx of the surface (φ = (j − 1.8) dx): j = 0..4.
+  EXPECT_EQ(band, 5u * 30u * 26u);
+  // Through world space the zero is where the fluid's is: φ is linear in y between centre
+  // layers 1 and 2, so OpenVDB's trilinear sample at the surface height is 0 up to float
+  // rounding of values ~dx (2^-24 · 0.1 ≈ 6e-9; 1e-7 leaves room).
+  openvdb::tools::GridSampler<openvdb::FloatGrid, openvdb::tools::BoxSampler> phi_at(*surface);
+  EXPECT_NEAR(phi_at.wsSample(openvdb::Vec3d(0.013, surface_y, -0.2)), 0.0, 1e-7);
+}
+
 TEST_F(VdbWriterTest, ValuesWithinTheBackgroundToleranceBecomeInactive) {
   SyntheticFluid fluid;
   make_puff(fluid);

@@ -1,0 +1,139 @@
+// The water's level set in a saved state (level_set_state.hpp): a cell-centred scene
+// restores bit for bit; a state of the other layout, or one saved before the layout was
+// recorded, is refused with both layouts named and what to do; such an older state still
+// restores into a node scene.
+
+#include "shellflow/grid_fluid/water/level_set_state.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include "grid_fluid_test_support.hpp"
+#include "shellflow/sdk/error.hpp"
+
+namespace shellflow::grid_fluid {
+namespace {
+
+/// A box of water falling in a 8 x 16 x 8 tank, φ on `layout` ("nodes" or "cells").
+std::unique_ptr<GridFluid> falling_box(const std::string& layout) {
+  return test::make_fluid(
+      {{"resolution", 16},
+       {"domain", {{"min", {0.0, 0.0, 0.0}}, {"max", {0.5, 1.0, 0.5}}}},
+       {"water",
+        {{"level_set", layout},
+         {"initial",
+          {{{"type", "box"}, {"min", {0.15, 0.4, 0.15}}, {"max", {0.35, 0.6, 0.35}}}}}}}});
+}
+
+void step(GridFluid& fluid, double t) {
+  fluid.advect(t, 0.01, {}, {});
+  fluid.project(0.01, {}, {});
+}
+
+sdk::StateBuffer saved_state(const GridFluid& fluid) {
+  sdk::StateBuffer state;
+  sdk::StateWriter out(state);
+  fluid.save(out);
+  return state;
+}
+
+/// The message restore() throws, empty (and a test failure) when it restores.
+std::string refusal(GridFluid& fluid, const sdk::StateBuffer& state) {
+  try {
+    sdk::StateReader in(state);
+    fluid.restore(in);
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "the state was restored";
+  return {};
+}
+
+/// `state` as grid_fluid saved it before the layout was recorded: the tag before φ's
+/// column cut out. The column is found by its bytes (length, width 1, φ), which occur once.
+sdk::StateBuffer without_layout_tag(const sdk::StateBuffer& state, const std::vector<double>& phi) {
+  std::vector<std::uint8_t> column(16 + 8 * phi.size());
+  const std::int64_t header[2] = {static_cast<std::int64_t>(phi.size()), 1};
+  std::memcpy(column.data(), header, 16);
+  std::memcpy(column.data() + 16, phi.data(), 8 * phi.size());
+  const auto at = std::search(state.begin(), state.end(), column.begin(), column.end());
+  if (at == state.end() || at - state.begin() < 8) {
+    ADD_FAILURE() << "φ's column is not in the state";
+    return {};
+  }
+  EXPECT_EQ(std::search(at + 1, state.end(), column.begin(), column.end()), state.end());
+  std::int64_t tag = 0;
+  std::memcpy(&tag, &*(at - 8), 8);
+  EXPECT_EQ(tag, -1);  // the nodes' tag
+  sdk::StateBuffer old(state.begin(), at - 8);
+  old.insert(old.end(), at, state.end());
+  return old;
+}
+
+TEST(WaterCheckpoint, ACellCentredSceneRestoresBitForBit) {
+  // The coupling loop rewinds and a resumed run continues from a checkpoint (§4.3, §6): a
+  // step from the restored state repeats the step from the saved one exactly.
+  auto fluid = falling_box("cells");
+  for (int s = 0; s < 5; ++s) step(*fluid, 0.01 * s);
+  const sdk::StateBuffer state = saved_state(*fluid);
+  step(*fluid, 0.05);
+  const std::vector<double> phi = fluid->liquid()->level_set().phi();
+  const auto v = fluid->mac().face_velocity(1);
+  const double volume = fluid->liquid()->volume(nullptr, nullptr);
+  // Not vacuous: the step changed φ.
+  auto other = falling_box("cells");
+  ASSERT_NE(phi, other->liquid()->level_set().phi());
+  sdk::StateReader in(state);
+  other->restore(in);
+  EXPECT_TRUE(in.at_end());
+  step(*other, 0.05);
+  EXPECT_EQ(other->liquid()->level_set().phi(), phi);
+  EXPECT_EQ(other->mac().face_velocity(1), v);
+  EXPECT_EQ(other->liquid()->volume(nullptr, nullptr), volume);
+}
+
+TEST(WaterCheckpoint, AStateOfTheOtherLayoutIsRefusedNamingBoth) {
+  auto nodes = falling_box("nodes");
+  auto cells = falling_box("cells");
+  const std::string into_cells = refusal(*cells, saved_state(*nodes));
+  const std::string into_nodes = refusal(*nodes, saved_state(*cells));
+  for (const std::string& message : {into_cells, into_nodes}) {
+    EXPECT_NE(message.find("\"nodes\""), std::string::npos) << message;
+    EXPECT_NE(message.find("\"cells\""), std::string::npos) << message;
+    EXPECT_NE(message.find("/fluid/water/level_set"), std::string::npos) << message;
+    EXPECT_NE(message.find("--overwrite"), std::string::npos) << message;
+  }
+  // What to set: the saved state's layout.
+  EXPECT_NE(into_cells.find("set /fluid/water/level_set to \"nodes\""), std::string::npos)
+      << into_cells;
+  EXPECT_NE(into_nodes.find("set /fluid/water/level_set to \"cells\""), std::string::npos)
+      << into_nodes;
+}
+
+TEST(WaterCheckpoint, AStateSavedBeforeTheLayoutWasRecordedRestoresOnNodesOnly) {
+  auto fluid = falling_box("nodes");
+  for (int s = 0; s < 5; ++s) step(*fluid, 0.01 * s);
+  const sdk::StateBuffer state = saved_state(*fluid);
+  const sdk::StateBuffer old = without_layout_tag(state, fluid->liquid()->level_set().phi());
+  ASSERT_EQ(old.size() + 8, state.size());
+  step(*fluid, 0.05);
+  const std::vector<double> phi = fluid->liquid()->level_set().phi();
+  auto restored = falling_box("nodes");
+  sdk::StateReader in(old);
+  restored->restore(in);
+  EXPECT_TRUE(in.at_end());
+  step(*restored, 0.05);
+  EXPECT_EQ(restored->liquid()->level_set().phi(), phi);
+
+  auto cells = falling_box("cells");
+  const std::string message = refusal(*cells, old);
+  EXPECT_NE(message.find("before the layout was recorded"), std::string::npos) << message;
+  EXPECT_NE(message.find("set /fluid/water/level_set to \"nodes\""), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace shellflow::grid_fluid
