@@ -558,6 +558,7 @@ void GridFluid::save(sdk::StateWriter& out) const {
         out.write(v);
       out.write(m_liquid->phase_end());
     }
+    if (m_liquid->fraction().enabled()) m_liquid->save_fraction(out);
   }
 }
 
@@ -598,6 +599,12 @@ void GridFluid::restore(sdk::StateReader& in) {
     for (double* v : {&d.advection, &d.shells, &d.reinitialization, &d.between_steps})
       *v = in.read<double>();
     m_liquid->set_phase_drift(d, in.read<double>());
+  }
+  if (m_liquid && m_liquid->fraction().enabled()) {
+    if (in.at_end())
+      throw Error("grid_fluid restore(): the state holds no water fraction (it was saved without "
+                  "/fluid/water/volume_fraction); run the scene afresh with --overwrite");
+    m_liquid->restore_fraction(in);
   }
   m_geometry_n.reset();
   m_geometry_np1.reset();

@@ -318,6 +318,32 @@ const NodeFields& Liquid::particle_velocity(const NodeFields& nodes, const MacGr
   return m_centre_velocity;
 }
 
+void Liquid::save_fraction(sdk::StateWriter& out) const {
+  const auto& f = m_fraction.values();
+  out.write_column(f.data(), static_cast<std::int64_t>(f.size()));
+  out.write(m_fraction_steps);
+  out.write(!m_transport[0].empty());
+  if (!m_transport[0].empty())
+    for (const auto& u : m_transport) out.write_column(u.data(), static_cast<std::int64_t>(u.size()));
+}
+
+void Liquid::restore_fraction(sdk::StateReader& in) {
+  const auto read = [&](std::vector<double>& v, size_t size) {
+    Eigen::VectorXd m;
+    in.read_matrix(m);
+    if (static_cast<size_t>(m.size()) != size)
+      throw Error("grid_fluid restore(): the saved water fraction is for another grid");
+    v.assign(m.data(), m.data() + m.size());
+  };
+  read(m_fraction.values(), m_fraction.values().size());
+  m_fraction_steps = in.read<std::int64_t>();
+  const grid::UniformGrid& grid = m_level_set.mac_grid();
+  if (in.read<bool>())
+    for (int a = 0; a < 3; ++a) read(m_transport[a], static_cast<size_t>(grid.size(face_location(a))));
+  else
+    for (auto& u : m_transport) u.clear();
+}
+
 void Liquid::centre_velocities(const MacGrid& mac) {
   const grid::UniformGrid& grid = mac.grid();
   const Eigen::Vector3i cells = grid.cells();

@@ -63,6 +63,9 @@ class Liquid {
   const ParticleLevelSet& particles() const { return m_particles; }
   /// The water fraction per cell ("volume_fraction"; not enabled() when off).
   const VolumeFraction& fraction() const { return m_fraction; }
+  /// The fraction's state for a checkpoint: F, the faces it moves with next, its steps.
+  void save_fraction(sdk::StateWriter& out) const;
+  void restore_fraction(sdk::StateReader& in);
   /// The velocities the particles move with, on φ's lattice: the node velocities `nodes`,
   /// or on cells the centres' means of the faces of `mac` (computed now).
   const NodeFields& particle_velocity(const NodeFields& nodes, const MacGrid& mac);
