@@ -40,9 +40,7 @@ void BoundaryPhi::update(const grid::UniformGrid& lattice, const MacGrid& mac,
 }
 
 double BoundaryPhi::pulled_away(double phi_b, double distance, double dx) {
-  const double ghost = dx + std::max(-0.5 * dx, phi_b);
-  if (distance >= dx) return ghost + (distance - dx);
-  return phi_b + distance / dx * (ghost - phi_b);
+  return std::max(-0.5 * dx, phi_b) + distance;
 }
 
 double BoundaryPhi::sample(std::span<const double> phi, const Eigen::Vector3d& p, double& lo,

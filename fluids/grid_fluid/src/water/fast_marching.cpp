@@ -70,8 +70,7 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
           // Beyond an open or inflow side whose flow comes in: air (BoundaryPhi).
           if (water && m_ghost != nullptr && m_ghost->pulls(2 * a + side, ijk)) {
             found = true;
-            nearest_crossing =
-                std::min(nearest_crossing, dx * p / (p - BoundaryPhi::pulled_away(p, dx, dx)));
+            nearest_crossing = std::min(nearest_crossing, -BoundaryPhi::pulled_away(p, 0.0, dx));
           }
           continue;
         }

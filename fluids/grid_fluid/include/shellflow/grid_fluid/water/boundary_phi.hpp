@@ -4,11 +4,14 @@
 // A departure point beyond a side reads, in each row of cells square to that side, a ghost
 // continued from the row's first cell b: φ_b (constant continuation, what every other phase
 // reads) unless the side is open or an inflow and the normal velocity on the row's boundary
-// face points into the domain. There the ghost cell one Δx beyond b is air,
-// Δx + max(−Δx/2, φ_b), and every further Δx adds Δx: the face is the water's surface and
-// nothing enters from outside (issue #51; PhysBAM lets water in below a tolerance, here
-// there is none). Between b and its ghost φ is linear, across rows trilinear as inside.
-// Walls are never ruled: their faces hold no normal velocity, so constant continuation.
+// face points into the domain. There the face is the water's surface and nothing enters
+// from outside (issue #51; PhysBAM lets water in below a tolerance, here there is none):
+// φ at a distance e beyond b is max(−Δx/2, φ_b) + e, PhysBAM's ghost cells (e = Δx, 2Δx,
+// 3Δx) and the line through them continued to b. PhysBAM interpolates from φ_b to its first
+// ghost instead, which for deep water (φ_b < −Δx/2) puts the surface almost a cell beyond b:
+// water under a lid moving less than that a step never left it. Across rows φ is trilinear
+// as inside. Walls are never ruled: their faces hold no normal velocity, so constant
+// continuation.
 // Fast marching reads the same ghost (FastMarching::set_ghost): our march sets every cell
 // it does not reach from a surface to ±band, so deep water against such a face, read as
 // water a little less deep each step, was made deep again and never pulled away.
@@ -45,8 +48,7 @@ class BoundaryPhi {
     return m_inward[side][node[b] + std::size_t(m_lattice.counts(grid::Location::Node)[b]) *
                                         node[c]] != 0;
   }
-  /// The ghost value at `distance` [m] beyond a first cell holding φ_b whose face lets
-  /// nothing in.
+  /// φ at `distance` [m] > 0 beyond a first cell holding φ_b whose face lets nothing in.
   static double pulled_away(double phi_b, double distance, double dx);
 
  private:
