@@ -31,8 +31,8 @@ double triangle_water_fraction(double a, double b, double c) {
 /// section (1 − f) near + f far (corner φ in face_water_fraction's order). Its φ is linear
 /// in f, its wet fraction smooth between where its corners change sign, so three Gauss
 /// points on each such piece integrate it to round-off (a flat surface's step exactly).
-void add_layer_wet(const std::array<double, 4>& near, const std::array<double, 4>& far,
-                   double end, double& wet) {
+void add_layer_wet(const std::array<double, 4>& near, const std::array<double, 4>& far, double end,
+                   double& wet) {
   std::array<double, 6> cuts{0.0};
   int count = 1;
   for (int m = 0; m < 4; ++m)

@@ -45,8 +45,8 @@ class BoundaryPhi {
   bool pulls(int side, const Eigen::Vector3i& node) const {
     if (!m_any[side]) return false;
     const int a = side / 2, b = (a + 1) % 3, c = (a + 2) % 3;
-    return m_inward[side][node[b] + std::size_t(m_lattice.counts(grid::Location::Node)[b]) *
-                                        node[c]] != 0;
+    return m_inward[side][node[b] +
+                          std::size_t(m_lattice.counts(grid::Location::Node)[b]) * node[c]] != 0;
   }
   /// φ at `distance` [m] > 0 beyond a first cell holding φ_b whose face lets nothing in.
   static double pulled_away(double phi_b, double distance, double dx);
