@@ -101,7 +101,7 @@ TEST(BoundaryPhi, AnInflowingFaceReadsAirBeyondItAndEveryOtherSideContinuesConst
   const Eigen::Vector3d inside(0.17, 0.23, 0.29);
   EXPECT_NEAR(at(phi, inside), constant(inside), 1e-15);
   // Beyond a wall (x max), and beyond the top where its face points out: constant.
-  for (const Eigen::Vector3d p :
+  for (const Eigen::Vector3d& p :
        {Eigen::Vector3d(0.42, 0.2, 0.2), Eigen::Vector3d(0.35, 0.43, 0.25)})
     EXPECT_EQ(at(phi, p), constant(p));
   // Beyond the top above an inflowing face, e past the row's last centre (on a centre
@@ -141,7 +141,9 @@ TEST(WaterOnCellsBudget, AStreamOntoTheDryFloorOfAClosedTankStaysInIt) {
     const double v = metric(*fluid, "water_volume"), added = metric(*fluid, "water_volume_added");
     // All of it on the floor: the lowest quarter of the tank holds it.
     const grid::IndexBox low{Eigen::Vector3i::Zero(), Eigen::Vector3i(15, 7, 15)};
-    if (layout == "cells") EXPECT_NEAR(fluid->liquid()->level_set().volume(low), v, 1e-12 * v);
+    if (layout == "cells") {
+      EXPECT_NEAR(fluid->liquid()->level_set().volume(low), v, 1e-12 * v);
+    }
     return std::pair{v, added};
   };
   const auto [cells, added] = kept("cells");
