@@ -396,27 +396,38 @@ TEST(VolumeFraction, IsRefusedWithoutCellsOrWithParticles) {
   EXPECT_NE(particles.find("/fluid/water/volume_fraction"), std::string::npos) << particles;
 }
 
-TEST(WaterOnCells, WhatItCannotTakeYetIsRefusedNamingThePath) {
-  const auto refused = [](nlohmann::json water, nlohmann::json extra = nlohmann::json::object()) {
-    nlohmann::json params = {{"resolution", 8}, {"water", std::move(water)}};
-    params.update(extra);
-    return test::validate_refusal(params);
-  };
+TEST(WaterOnCells, ADomainOneCellThinIsRefusedNamingThePath) {
   nlohmann::json pool = {{{"type", "pool"}, {"height", 0.3}}};
-  const std::string emitter = refused(
-      {{"level_set", "cells"},
-       {"sources", {{{"shape", "sphere"}, {"center", {0.5, 0.5, 0.5}}, {"radius", 0.1}}}}});
-  EXPECT_NE(emitter.find("/fluid/water/sources"), std::string::npos) << emitter;
-  EXPECT_NE(emitter.find("not supported yet"), std::string::npos) << emitter;
-  const std::string open = refused({{"level_set", "cells"}, {"initial", pool}},
-                                   {{"boundary", {{"y_max", {{"type", "open"}}}}}});
-  EXPECT_NE(open.find("/fluid/boundary"), std::string::npos) << open;
   nlohmann::json flat = {{"resolution", 8},
                          {"domain", {{"min", {0, 0, 0}}, {"max", {1.0, 1.0, 0.01}}}},
                          {"water", {{"level_set", "cells"}, {"initial", pool}}}};
   const std::string thin = test::validate_refusal(flat);
   EXPECT_NE(thin.find("/fluid/resolution"), std::string::npos) << thin;
   EXPECT_NE(thin.find("two cells"), std::string::npos) << thin;
+  // Emitters and open and inflow sides are taken since step C3 (water_cells_budget_test).
+  nlohmann::json taken = {
+      {"resolution", 8},
+      {"boundary",
+       {{"y_max", {{"type", "open"}}}, {"x_min", {{"type", "inflow"}, {"velocity", {0.5, 0, 0}}}}}},
+      {"water",
+       {{"level_set", "cells"},
+        {"initial", pool},
+        {"sources", {{{"shape", "sphere"}, {"center", {0.5, 0.5, 0.5}}, {"radius", 0.1}}}}}}};
+  EXPECT_NO_THROW(test::make_fluid(taken));
+}
+
+TEST(WaterOnCells, ShellsAreRefusedAtTheFirstStepNamingThePath) {
+  // The plugin learns of shells at its first step; until step C5 cells cannot see them, and
+  // water would pass through them: refused then, naming the option.
+  auto fluid = test::make_fluid(cell_water(8, {{{"type", "pool"}, {"height", 0.3}}}));
+  const std::vector<sdk::ShellSurface> shells{
+      test::make_plate(Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d::UnitX(), 0.8, 5)};
+  try {
+    fluid->advect(0.0, 0.01, shells, shells);
+    ADD_FAILURE() << "shells on cells were accepted";
+  } catch (const ConfigError& e) {
+    EXPECT_EQ(e.json_path(), "/water/level_set");
+  }
 }
 
 }  // namespace

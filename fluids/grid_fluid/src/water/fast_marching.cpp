@@ -66,7 +66,14 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
       double next_to_shell = kInf;  // the difference towards a neighbour next to a shell
       for (int side = 0; side < 2; ++side) {
         const int c = ijk[a] + (side == 0 ? -1 : 1);
-        if (c < 0 || c >= n[a]) continue;
+        if (c < 0 || c >= n[a]) {
+          // Beyond an open or inflow side whose flow comes in: air (BoundaryPhi).
+          if (water && m_ghost != nullptr && m_ghost->pulls(2 * a + side, ijk)) {
+            found = true;
+            nearest_crossing = std::min(nearest_crossing, -BoundaryPhi::pulled_away(p, 0.0, dx));
+          }
+          continue;
+        }
         if ((m_hidden[i] >> (2 * a + side) & 1u) != 0) continue;  // nothing across it
         const std::int64_t j = i + (side == 0 ? -stride[a] : stride[a]);
         if ((phi[j] <= 0.0) != water) {

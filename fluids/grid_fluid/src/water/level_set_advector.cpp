@@ -20,10 +20,11 @@ constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 
 void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velocity, double dt,
                               const ShellGeometry& shells, const geometry::ShellBand* band,
-                              std::span<double> out, std::vector<std::int64_t>& invalid) {
+                              std::span<double> out, std::vector<std::int64_t>& invalid,
+                              const BoundaryPhi* ghost) {
   const std::int64_t count = m_grid.size(Location::Node);
   if (!m_maccormack) {
-    trace(in, velocity, dt, shells, band, out, nullptr, invalid);
+    trace(in, velocity, dt, shells, band, out, nullptr, invalid, ghost);
     return;
   }
   // Selle et al. 2008: forward, then back from the result; half the round trip's error
@@ -32,9 +33,9 @@ void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velo
   m_range.resize(2 * count);
   m_back.resize(count);
   const std::size_t first_invalid = invalid.size();
-  trace(in, velocity, dt, shells, band, out, m_range.data(), invalid);
+  trace(in, velocity, dt, shells, band, out, m_range.data(), invalid, ghost);
   m_back_invalid.clear();
-  trace(out, velocity, -dt, shells, band, m_back, nullptr, m_back_invalid);
+  trace(out, velocity, -dt, shells, band, m_back, nullptr, m_back_invalid, ghost);
   // No correction where either trace saw no visible node.
   for (std::size_t k = first_invalid; k < invalid.size(); ++k) m_range[2 * invalid[k]] = kNan;
   for (const std::int64_t node : m_back_invalid) m_range[2 * node] = kNan;
@@ -49,7 +50,7 @@ void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velo
 void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& velocity, double dt,
                              const ShellGeometry& shells, const geometry::ShellBand* band,
                              std::span<double> out, double* range,
-                             std::vector<std::int64_t>& invalid) const {
+                             std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost) const {
   const std::span<const std::uint8_t> in_band =
       band && !shells.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
   const Eigen::Vector3d lower = m_grid.origin();
@@ -82,8 +83,15 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
             u = midpoint_velocity(x, u, velocity, in, node, dt,
                                   banded ? in_band : std::span<const std::uint8_t>(),
                                   contact ? &*contact : nullptr, shells, eps_prime);
-          const Eigen::Vector3d departure = (x - dt * u).cwiseMax(lower).cwiseMin(upper);
+          const Eigen::Vector3d back = x - dt * u;
+          const Eigen::Vector3d departure = back.cwiseMax(lower).cwiseMin(upper);
           double* node_range = range ? range + 2 * node : nullptr;
+          if (!banded && ghost != nullptr && departure != back) {
+            double lo, hi;
+            out[node] = ghost->sample(in, back, lo, hi);
+            if (node_range) node_range[0] = lo, node_range[1] = hi;
+            continue;
+          }
           if (!banded) {
             const NodeStencil st = node_stencil(m_grid, departure);
             const std::int64_t first = st.base.x() + sy * st.base.y() + sz * st.base.z();

@@ -41,17 +41,6 @@ LevelSet::Layout layout_of(const nlohmann::json& params, const grid::UniformGrid
   return LevelSet::Layout::Cells;
 }
 
-/// What the cell-centred core does not take yet (docs/water-cell-centres.md, steps C3–C5).
-void require_supported_on_cells(const nlohmann::json& params, const DomainBoundary& boundary) {
-  const auto unsupported = [](const std::string& path, const std::string& what) {
-    return ConfigError(path, what + " with /water/level_set = cells is not supported yet: use "
-                                    "\"nodes\" (the default) for this scene");
-  };
-  if (!params.at("sources").empty()) throw unsupported("/water/sources", "water emitters");
-  for (int s = 0; s < 6; ++s)
-    if (boundary.side(s / 2, s % 2).type != BoundaryType::Wall)
-      throw unsupported("/boundary", "an open or inflow side");
-}
 }  // namespace
 
 sdk::Schema Liquid::schema() {
@@ -63,18 +52,20 @@ sdk::Schema Liquid::schema() {
              Schema::string("nodes")
                  .one_of({"nodes", "cells"})
                  .doc("where φ is sampled. nodes: the grid's nodes (the paper's §4.4.1); water "
-                      "landing on a dry wall of the domain is lost there. cells: one sample per "
-                      "pressure cell, traced with the faces' velocities (PhysBAM's); water that "
-                      "reaches a wall stays. For now cells take closed tanks (walls), initial "
-                      "water, particles and prescribed velocities only: no shells, emitters, open "
-                      "or inflow sides (docs/water-cell-centres.md)"))
+                      "landing on a dry wall of the domain is lost there, and an open side whose "
+                      "flow turns inward lets water in. cells: one sample per pressure cell, "
+                      "traced with the faces' velocities (PhysBAM's); water that reaches a wall "
+                      "stays, and an open or inflow side lets none in (where its face's "
+                      "velocity points inward the water pulls away from it). For now cells "
+                      "take walls, open and inflow sides, initial water, emitters, particles and "
+                      "prescribed velocities: no shells (docs/water-cell-centres.md)"))
       .field("volume_fraction",
              Schema::boolean(false).doc(
                  "cells only, experimental: carry each cell's water fraction beside φ, moved in "
                  "conservative form (Weymouth and Yue 2010) and φ moved to it every step "
                  "(CLSVOF), so the water's volume changes only through the domain's sides; a "
-                 "layer thinner than half a cell on a wall keeps its water there. Without "
-                 "particles (docs/water-cell-centres.md §5)"))
+                 "layer thinner than half a cell on a wall keeps its water there. For now in "
+                 "closed tanks without emitters or particles (docs/water-cell-centres.md §5)"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))
@@ -155,10 +146,8 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
     m_open[s] = boundary.side(s / 2, s % 2).type == BoundaryType::Open;
   }
   m_particles.set_walls(m_walls);
-  if (cell_centred()) {
-    require_supported_on_cells(params, boundary);
+  if (cell_centred())
     m_centre_velocity = NodeFields(m_level_set.grid(), 0.0, /*smoke=*/false, /*temperature=*/false);
-  }
   fill_initial_water(params.at("initial"), up, "/water/initial", m_level_set);
   const auto& sources = params.at("sources");
   for (size_t i = 0; i < sources.size(); ++i) {
@@ -263,7 +252,15 @@ void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry:
   }
 }
 
+void Liquid::refuse_shells_on_cells(const ShellGeometry& shells) const {
+  if (cell_centred() && !shells.empty())
+    throw ConfigError("/water/level_set",
+                      "shells with /water/level_set = cells are not supported yet: use \"nodes\" "
+                      "(the default) for a scene with shells");
+}
+
 void Liquid::settle_among_shells(const ShellGeometry& shells, const geometry::ShellBand* band) {
+  refuse_shells_on_cells(shells);  // before anything reads the shells' band on cells
   if (m_built.empty()) return;
   // Unless φ was given since (a test's own field), which is then left as it is.
   if (!shells.empty() && bytes_hash(m_level_set.phi()) == m_marched_hash) {
@@ -376,10 +373,7 @@ void Liquid::centre_velocities(const MacGrid& mac) {
 void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& mac, double dt,
                     const ShellGeometry& shells, const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
-  if (cell_centred() && !shells.empty())
-    throw ConfigError("/water/level_set",
-                      "shells with /water/level_set = cells are not supported yet: use \"nodes\" "
-                      "(the default) for a scene with shells");
+  refuse_shells_on_cells(shells);
   if (cell_centred()) centre_velocities(mac);
   const NodeFields& velocity = cell_centred() ? m_centre_velocity : node_velocity;
   if (m_fraction.enabled()) {
@@ -401,8 +395,9 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
     m_phase_end = start_volume;
   }
   // The volume budget's flows over the step, from φ^n.
-  const grid::UniformGrid& grid = m_level_set.grid();
-  m_budget.outflow += open_side_outflow(m_level_set, velocity, m_open, dt);
+  const grid::UniformGrid& grid = m_level_set.mac_grid();
+  m_budget.outflow += cell_centred() ? open_side_outflow(m_level_set, mac, m_open, dt)
+                                     : open_side_outflow(m_level_set, velocity, m_open, dt);
   // An emitter with a velocity adds its fill (its first step) and then the flow its held
   // faces impose; one without, whatever apply() sets (its water leaves by the fluid's
   // velocity and apply() tops it up).
@@ -415,7 +410,16 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
     if (std::isnan(m_held_flow[i])) m_held_flow[i] = emitter_held_flow(grid, s, t);
     m_budget.added += m_held_flow[i] * dt;
   }
-  m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid);
+  // On cells φ beyond an open or inflow side is air where its face's flow comes in.
+  const BoundaryPhi* ghost = nullptr;
+  std::array<bool, 6> ruled;  // the open and inflow sides
+  for (int s = 0; s < 6; ++s) ruled[s] = !m_walls[s];
+  if (cell_centred() && ruled != std::array<bool, 6>{}) {
+    m_boundary_phi.update(m_level_set.grid(), mac, ruled);
+    if (m_boundary_phi.any()) ghost = &m_boundary_phi;
+  }
+  m_fast_marching.set_ghost(ghost);  // this step's reinitialisation reads it too
+  m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid, ghost);
   std::swap(m_level_set.phi(), m_scratch);
   if (m_by_phase) end_phase(m_phase_drift.advection, &shells);  // and again after the emitters
   m_stats.t_level_set += seconds_since(start);
@@ -444,7 +448,7 @@ void Liquid::add_sources(double t, DomainBoundary& boundary) {
   }
   for (int a = 0; a < 3; ++a) {
     std::vector<SourceFace> faces;
-    for (const auto& s : m_sources) s.append_faces(t, m_level_set.grid(), a, faces);
+    for (const auto& s : m_sources) s.append_faces(t, m_level_set.mac_grid(), a, faces);
     boundary.set_source_faces(a, std::move(faces));
   }
   if (m_by_phase) end_phase(m_phase_drift.advection, m_phase_shells_n);

@@ -37,6 +37,7 @@
 
 #include "shellflow/geometry/shell_band.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/water/boundary_phi.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -52,6 +53,10 @@ class FastMarching {
   /// Reinitialises `phi` (node values) to a signed distance within `band` [m].
   FastMarchingStats reinitialize(std::span<double> phi, double band, const ShellGeometry& shells,
                                  const geometry::ShellBand* shell_band);
+  /// φ beyond the lattice's sides for the marches that follow: a water node on a side whose
+  /// row pulls away has the ghost beyond it as an air neighbour (BoundaryPhi); null (the
+  /// default): no neighbour there, φ continued constant. Kept, not copied.
+  void set_ghost(const BoundaryPhi* ghost) { m_ghost = ghost; }
 
  private:
   grid::UniformGrid m_grid;
@@ -61,6 +66,7 @@ class FastMarching {
   std::vector<double> m_distance;           ///< |φ| being built; +inf: not reached
   std::vector<std::uint8_t> m_accepted;
   std::vector<std::uint8_t> m_held;  ///< held next to a shell, not an interface node
+  const BoundaryPhi* m_ghost = nullptr;
 };
 
 }  // namespace shellflow::grid_fluid

@@ -42,6 +42,7 @@
 #include "shellflow/geometry/shell_band.hpp"
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/water/boundary_phi.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -61,9 +62,11 @@ class LevelSetAdvector {
 
   /// out = φ advected over dt by the node velocities of `velocity`. Appends to `invalid`
   /// the nodes whose stencil saw no visible node (their `out` value is left as `in`'s).
+  /// `ghost`, when given, reads φ at departure points beyond the lattice's box outside the
+  /// shell band (the cell-centred φ's open and inflow sides); else φ is continued constant.
   void advect(std::span<const double> in, const NodeFields& velocity, double dt,
               const ShellGeometry& shells, const geometry::ShellBand* band, std::span<double> out,
-              std::vector<std::int64_t>& invalid);
+              std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost = nullptr);
 
   /// φ at `base` by trilinear interpolation over its cell, each node not visible from
   /// `base` replaced by the rule above (without `linear`, the constant continuation alone);
@@ -92,7 +95,7 @@ class LevelSetAdvector {
   /// when given, receives each node's stencil bounds (2 per node).
   void trace(std::span<const double> in, const NodeFields& velocity, double dt,
              const ShellGeometry& shells, const geometry::ShellBand* band, std::span<double> out,
-             double* range, std::vector<std::int64_t>& invalid) const;
+             double* range, std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost) const;
   /// The shell point an air node x (φ = p > 0) is within Δx of, unless it lies on an open
   /// edge (past which water runs on): the shell off_shells measures u against.
   std::optional<ShellContact> air_contact(const Eigen::Vector3d& x, double p,

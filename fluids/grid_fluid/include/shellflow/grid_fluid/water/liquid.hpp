@@ -21,6 +21,7 @@
 #include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
+#include "shellflow/grid_fluid/water/boundary_phi.hpp"
 #include "shellflow/grid_fluid/water/fast_marching.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
 #include "shellflow/grid_fluid/water/level_set_advector.hpp"
@@ -155,6 +156,8 @@ class Liquid {
   void carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
                          const ShellGeometry& shells_n, const ShellGeometry& shells);
 
+  /// Shells on cells are not taken yet (step C5): a ConfigError naming the option.
+  void refuse_shells_on_cells(const ShellGeometry& shells) const;
   /// advect() on cells: the velocity at each cell centre, the mean of its two faces per axis
   /// (PhysBAM's Face_To_Cell_Vector), in `m_centre_velocity` on the centres' lattice.
   void centre_velocities(const MacGrid& mac);
@@ -180,6 +183,7 @@ class Liquid {
   std::vector<double> m_cell_phi;
   std::array<bool, 6> m_walls{};  ///< sides of the domain that are walls
   std::array<bool, 6> m_open{};   ///< sides of the domain that are open (outflow)
+  BoundaryPhi m_boundary_phi;     ///< on cells: φ beyond the open and inflow sides, advect()
   VolumeBudget m_budget;
   std::vector<std::uint8_t> m_emitter_filling;  ///< per emitter, this step: apply() counts
   std::vector<double> m_held_flow;  ///< per emitter, emitter_held_flow() once known (else NaN)

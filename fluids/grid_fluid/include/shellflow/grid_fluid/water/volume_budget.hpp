@@ -10,12 +10,16 @@
 //    level set makes or loses about and downstream of it shows as drift. One without a
 //    velocity: whatever apply() sets (its water leaves by the fluid's own velocity and
 //    apply() tops it up).
-//  - outflow: what the velocity carries out through the domain's open sides (in through
-//    them, negative).
-// The open sides' flow is the node velocities' (those φ moves with) over each step, swept:
-// across a face, what lies upstream within u_n dt of it (u_n the mean normal velocity of its four
-// nodes), the face's wet area (φ's linear interpolant below zero on its two triangles, the
-// triangles LevelSet::volume's tetrahedra cut it into) integrated over that depth.
+//  - outflow: what the velocity carries out through the domain's open sides. φ on nodes:
+//    in through them, negative. φ on cells: out only, as nothing enters there (BoundaryPhi),
+//    so it never decreases.
+// The open sides' flow over each step is swept: across a face, what lies upstream within
+// u_n dt of it, the face's wet area (φ's linear interpolant below zero on its two
+// triangles) integrated over that depth. φ on nodes: u_n the mean normal velocity of the
+// face's four nodes (those φ moves with), the section's corners the nodes, the triangles
+// LevelSet::volume's tetrahedra cut it into. φ on cells: u_n the MAC face's (what the
+// centres' velocities average), the corners the mean of the four rows of centres about
+// them, φ linear along the normal from the face through the first two centres.
 
 #include <array>
 
@@ -24,6 +28,8 @@
 #include "shellflow/grid_fluid/water/water_source.hpp"
 
 namespace shellflow::grid_fluid {
+
+class MacGrid;
 
 struct VolumeBudget {
   double added = 0.0;    ///< [m^3] by the emitters since the start
@@ -47,22 +53,30 @@ struct PhaseDrift {
 /// face's two axes.
 double face_water_fraction(const std::array<double, 4>& corner);
 
-/// The cells whose water an emitter's apply() may change: those about the nodes it sets
-/// (within the level set's band of it), clamped to the grid.
+/// The MAC cells whose water, as LevelSet::volume measures it, an emitter's apply() may
+/// change: those about the samples it sets (within the level set's band of it), clamped
+/// to the grid.
 grid::IndexBox emitter_reach(const LevelSet& level_set, const WaterSource& source);
 
-/// Does any of the emitter's own cells (their centre inside it) hold water?
+/// Does any of the emitter's own cells (their centre inside it) hold water (on cells: its
+/// φ below zero)?
 bool emitter_has_water(const LevelSet& level_set, const WaterSource& source);
 
 /// The flow [m^3/s] the emitter's held faces let out while it is on (t: a time it is on;
 /// the same at any): over the faces between its cells and the rest of the domain, the held
 /// velocity's outward part × Δx². What they impose on the divergence-free velocity,
-/// exactly: the cells' staircase, not π r² for a cylinder.
+/// exactly: the cells' staircase, not π r² for a cylinder. `grid`: the MAC grid.
 double emitter_held_flow(const grid::UniformGrid& grid, const WaterSource& source, double t);
 
 /// The net water [m^3] that `velocity` carries out through the open sides of the domain
 /// (`open[2 * axis + max_side]`) in a step of dt, from φ at its start (inflow negative).
+/// φ on nodes.
 double open_side_outflow(const LevelSet& level_set, const NodeFields& velocity,
+                         const std::array<bool, 6>& open, double dt);
+
+/// The water [m^3] that the faces of `mac` carry out through the open sides in a step of
+/// dt, from φ at its start; faces whose velocity points in count nothing. φ on cells.
+double open_side_outflow(const LevelSet& level_set, const MacGrid& mac,
                          const std::array<bool, 6>& open, double dt);
 
 }  // namespace shellflow::grid_fluid

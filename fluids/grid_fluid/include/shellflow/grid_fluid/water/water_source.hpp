@@ -22,8 +22,9 @@ class WaterSource {
 
   bool active(double t) const { return m_emitter.active(t); }
   const std::optional<Eigen::Vector3d>& velocity() const { return m_emitter.velocity(); }
-  /// φ = min(φ, signed distance to the emitter) on the nodes within the level set's band
-  /// of it, while on at time t. Returns the nodes inside.
+  /// φ = min(φ, signed distance to the emitter) on the level set's samples (its lattice's
+  /// nodes: the MAC nodes, or the cell centres) within its band of it, while on at time t.
+  /// Returns the samples inside.
   std::int64_t apply(double t, LevelSet& level_set) const;
   /// The nodes in the emitter's bounding box grown by `margin` [m].
   grid::IndexBox bounding_nodes(const grid::UniformGrid& grid, double margin) const {
