@@ -64,8 +64,9 @@ sdk::Schema Liquid::schema() {
                  "cells only, experimental: carry each cell's water fraction beside φ, moved in "
                  "conservative form (Weymouth and Yue 2010) and φ moved to it every step "
                  "(CLSVOF), so the water's volume changes only through the domain's sides; a "
-                 "layer thinner than half a cell on a wall keeps its water there. For now in "
-                 "closed tanks without emitters or particles (docs/water-cell-centres.md §5)"))
+                 "layer thinner than half a cell on a wall keeps its water there; emitters add "
+                 "to it and open sides carry it out, counted exactly. For now without particles "
+                 "(docs/water-cell-centres.md §5)"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))
@@ -171,13 +172,8 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
       throw ConfigError("/water/volume_fraction",
                         "a volume fraction and marker particles both correct φ: set "
                         "/water/particles/per_cell to 0 or leave the volume fraction out");
-    // Its sweeps carry water across closed walls only, and emitters add to φ alone.
-    if (!m_sources.empty() || boundary.has_open_side() ||
-        std::any_of(m_walls.begin(), m_walls.end(), [](bool wall) { return !wall; }))
-      throw ConfigError("/water/volume_fraction",
-                        "a volume fraction takes closed tanks without emitters for now: leave it "
-                        "out of a scene with /water/sources or an open or inflow side");
     m_fraction = VolumeFraction(m_level_set);
+    m_fraction.set_open(m_open);
   }
   m_initial_volume = volume(nullptr, nullptr);
   m_particles.seed(m_level_set, ShellGeometry());
@@ -383,6 +379,8 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
     for (int a = 0; a < 3; ++a)
       faces[a] = m_transport[a].empty() ? &mac.face_velocity(a) : &m_transport[a];
     m_fraction.advect(faces, m_level_set, dt, m_fraction_steps++);
+    m_budget.outflow += m_fraction.stats().outflow;
+    m_budget.added += m_fraction.stats().dilated;
   }
   m_stats = LiquidStats{};
   m_invalid.clear();
@@ -396,13 +394,16 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
   }
   // The volume budget's flows over the step, from φ^n.
   const grid::UniformGrid& grid = m_level_set.mac_grid();
-  m_budget.outflow += cell_centred() ? open_side_outflow(m_level_set, mac, m_open, dt)
-                                     : open_side_outflow(m_level_set, velocity, m_open, dt);
+  // With a volume fraction the budget counts what F carries out and what the emitters add
+  // to it, exactly (below and add_sources()).
+  if (!m_fraction.enabled())
+    m_budget.outflow += cell_centred() ? open_side_outflow(m_level_set, mac, m_open, dt)
+                                       : open_side_outflow(m_level_set, velocity, m_open, dt);
   // An emitter with a velocity adds its fill (its first step) and then the flow its held
   // faces impose; one without, whatever apply() sets (its water leaves by the fluid's
   // velocity and apply() tops it up).
   m_emitter_filling.assign(m_sources.size(), 1);
-  for (size_t i = 0; i < m_sources.size(); ++i) {
+  for (size_t i = 0; i < m_sources.size() && !m_fraction.enabled(); ++i) {
     const WaterSource& s = m_sources[i];
     if (!s.active(t) || !s.velocity() || !emitter_has_water(m_level_set, s)) continue;
     m_emitter_filling[i] = 0;
@@ -437,7 +438,15 @@ void Liquid::add_sources(double t, DomainBoundary& boundary) {
     const bool counted = m_emitter_filling.size() <= i || m_emitter_filling[i] != 0;
     const double before = counted ? m_level_set.volume(reach) : 0.0;
     const std::int64_t nodes = s.apply(t, m_level_set);
-    if (counted) m_budget.added += m_level_set.volume(reach) - before;
+    if (m_fraction.enabled())
+      m_budget.added += m_fraction.fill(
+          [&s](const Eigen::Vector3d& p) { return s.signed_distance(p); },
+          // Every cell the shape reaches: those whose centres lie within a cell of its box.
+          m_level_set.mac_grid().samples_in_box(
+              Location::Cell, s.bounds().min().array() - m_level_set.mac_grid().dx(),
+              s.bounds().max().array() + m_level_set.mac_grid().dx()));
+    else if (counted)
+      m_budget.added += m_level_set.volume(reach) - before;
     m_stats.source_nodes += nodes;
     // Its water gets particles this step (the band's 3Δx about it), not at the next reseed,
     // and loses the air particles it now covers.

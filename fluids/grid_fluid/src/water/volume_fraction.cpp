@@ -57,26 +57,55 @@ double VolumeFraction::plane_height(const Eigen::Vector3d& normal, double fracti
   return 0.5 * (a + b);
 }
 
-VolumeFraction::VolumeFraction(const LevelSet& level_set) : m_mac(level_set.mac_grid()) {
-  // The water below φ's interpolant in each cell, by sampling 4³ points (each a plane's
-  // share of a sub-cell, |∇φ| = 1: exact for a plane along the lattice).
+namespace {
+
+/// The water fraction of the cell of `grid` centred at `centre` where `distance` is below
+/// zero, from 4³ points (each a plane's share of its sub-cell, |∇d| = 1: exact for a
+/// plane along the grid).
+template <class Distance>
+double sampled_fraction(const grid::UniformGrid& grid, const Eigen::Vector3d& centre,
+                        const Distance& distance) {
   constexpr int kPoints = 4;
-  const double dx = m_mac.dx(), h = dx / kPoints;
+  const double dx = grid.dx(), h = dx / kPoints;
+  const Eigen::Vector3d low = centre - Eigen::Vector3d::Constant(0.5 * dx);
+  double water = 0.0;
+  for (int k = 0; k < kPoints; ++k)
+    for (int j = 0; j < kPoints; ++j)
+      for (int i = 0; i < kPoints; ++i)
+        water += std::clamp(
+            0.5 - distance(Eigen::Vector3d(low + h * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5))) / h,
+            0.0, 1.0);
+  return water / (kPoints * kPoints * kPoints);
+}
+
+}  // namespace
+
+VolumeFraction::VolumeFraction(const LevelSet& level_set) : m_mac(level_set.mac_grid()) {
   const std::int64_t count = m_mac.size(Location::Cell);
   m_fraction.assign(count, 0.0);
 #pragma omp parallel for schedule(static)
-  for (std::int64_t cell = 0; cell < count; ++cell) {
-    const Eigen::Vector3d low =
-        m_mac.position(Location::Cell, cell) - Eigen::Vector3d::Constant(0.5 * dx);
-    double water = 0.0;
-    for (int k = 0; k < kPoints; ++k)
-      for (int j = 0; j < kPoints; ++j)
-        for (int i = 0; i < kPoints; ++i) {
-          const Eigen::Vector3d q = low + h * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
-          water += std::clamp(0.5 - level_set.sample(q) / h, 0.0, 1.0);
+  for (std::int64_t cell = 0; cell < count; ++cell)
+    m_fraction[cell] = sampled_fraction(m_mac, m_mac.position(Location::Cell, cell),
+                                        [&](const Eigen::Vector3d& q) { return level_set.sample(q); });
+}
+
+double VolumeFraction::fill(const std::function<double(const Eigen::Vector3d&)>& distance,
+                            const grid::IndexBox& cells) {
+  if (cells.empty()) return 0.0;
+  double added = 0.0;
+  for (int k = cells.lo.z(); k <= cells.hi.z(); ++k)
+    for (int j = cells.lo.y(); j <= cells.hi.y(); ++j)
+      for (int i = cells.lo.x(); i <= cells.hi.x(); ++i) {
+        const std::int64_t c = m_mac.index(Location::Cell, i, j, k);
+        const double shape =
+            sampled_fraction(m_mac, m_mac.position(Location::Cell, c), distance);
+        if (shape > m_fraction[c]) {
+          added += shape - m_fraction[c];
+          m_fraction[c] = shape;
         }
-    m_fraction[cell] = water / (kPoints * kPoints * kPoints);
-  }
+      }
+  const double dx = m_mac.dx();
+  return added * dx * dx * dx;
 }
 
 double VolumeFraction::volume() const {
@@ -124,12 +153,16 @@ void VolumeFraction::advect(const std::array<const std::vector<double>*, 3>& u,
   const auto& phi = level_set.phi();
   m_full.resize(phi.size());
   for (size_t c = 0; c < phi.size(); ++c) m_full[c] = phi[c] <= 0.0 ? 1 : 0;
-  double clipped = 0.0;
+  double clipped = 0.0, outflow = 0.0, dilated = 0.0;
   for (int part = 0; part < parts; ++part) {
     sweep(u, level_set, dt / parts, step * 3 + part);
     clipped += m_stats.clipped;
+    outflow += m_stats.outflow;
+    dilated += m_stats.dilated;
   }
   m_stats.clipped = clipped;
+  m_stats.outflow = outflow;
+  m_stats.dilated = dilated;
 }
 
 void VolumeFraction::sweep(const std::array<const std::vector<double>*, 3>& u,
@@ -143,7 +176,7 @@ void VolumeFraction::sweep(const std::array<const std::vector<double>*, 3>& u,
   for (std::int64_t c = 0; c < count; ++c)
     if (m_fraction[c] > kEmpty && m_fraction[c] < 1.0 - kEmpty)
       normal[c] = normal_at(level_set, m_mac.coordinates(Location::Cell, c));
-  double clipped = 0.0;
+  double clipped = 0.0, outflow = 0.0, dilated = 0.0;
   for (int sweep = 0; sweep < 3; ++sweep) {
     const int a = step % 2 == 0 ? sweep : 2 - sweep;
     const auto& w = *u[a];
@@ -159,7 +192,9 @@ void VolumeFraction::sweep(const std::array<const std::vector<double>*, 3>& u,
 #pragma omp parallel for schedule(static)
     for (std::int64_t f = 0; f < m_mac.size(loc); ++f) {
       const Eigen::Vector3i ijk = m_mac.coordinates(loc, f);
-      if (ijk[a] == 0 || ijk[a] == n[a]) continue;  // closed walls carry nothing
+      // A side's face carries water out where it is open and its flow leaves; none comes in.
+      if (ijk[a] == 0 && !(m_open[2 * a] && w[f] < 0.0)) continue;
+      if (ijk[a] == n[a] && !(m_open[2 * a + 1] && w[f] > 0.0)) continue;
       const double s = std::min(std::abs(w[f]) * dt / dx, 1.0);
       if (s == 0.0) continue;
       Eigen::Vector3i donor = ijk;
@@ -182,15 +217,27 @@ void VolumeFraction::sweep(const std::array<const std::vector<double>*, 3>& u,
       }
       carried[f] = w[f] > 0.0 ? water : -water;
     }
+    for (int side = 0; side < 2; ++side) {
+      if (!m_open[2 * a + side]) continue;
+      const double sign = side == 0 ? -1.0 : 1.0;  // carried is + along the axis
+      outflow += ordered_sum(m_mac.size(loc), [&](std::int64_t f) {
+        const int along = m_mac.coordinates(loc, f)[a];
+        return along == (side == 0 ? 0 : n[a]) ? sign * carried[f] : 0.0;
+      });
+    }
     // F − (out − in) + c (u⁺ − u⁻) dt/Δx (Weymouth and Yue 2010, eq. 9).
-#pragma omp parallel for schedule(static) reduction(+ : clipped)
+#pragma omp parallel for schedule(static) reduction(+ : clipped, dilated)
     for (std::int64_t c = 0; c < count; ++c) {
       const Eigen::Vector3i ijk = m_mac.coordinates(Location::Cell, c);
       Eigen::Vector3i upper = ijk;
       upper[a] += 1;
       const std::int64_t f_lo = m_mac.index(loc, ijk), f_hi = m_mac.index(loc, upper);
       double value = m_fraction[c] + carried[f_lo] - carried[f_hi];
-      if (m_full[c] != 0) value += (w[f_hi] - w[f_lo]) * dt / dx;
+      if (m_full[c] != 0) {
+        const double dilation = (w[f_hi] - w[f_lo]) * dt / dx;
+        value += dilation;
+        dilated += dilation;
+      }
       // Where the air's extrapolated faces converge a cell may take in more than it holds:
       // the excess stays in it (carried on with the flux of a full cell) rather than being
       // lost. Below zero there is nothing to carry.
@@ -200,6 +247,8 @@ void VolumeFraction::sweep(const std::array<const std::vector<double>*, 3>& u,
     }
   }
   m_stats.clipped = clipped * dx * dx * dx;
+  m_stats.outflow = outflow * dx * dx * dx;
+  m_stats.dilated = dilated * dx * dx * dx;
 }
 
 void VolumeFraction::correct(LevelSet& level_set, bool signs_only) {

@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
@@ -21,6 +22,11 @@
 namespace shellflow::grid_fluid {
 
 struct VolumeFractionStats {
+  double outflow = 0.0;  ///< water [m^3] carried out through open sides this step
+  /// Water [m^3] the dilation term made in liquid cells whose faces are not divergence free:
+  /// the emitters' cells, whose held faces push water out of them (elsewhere the
+  /// projection's tolerance).
+  double dilated = 0.0;
   double clipped = 0.0;  ///< water [m^3] lost (−) or made (+) keeping F in [0, 1] this step
   double excess = 0.0;  ///< water [m^3] held beyond F = 1 (converging air faces), after the step
   std::int64_t mixed_cells = 0;    ///< cells with 0 < F < 1 after the step
@@ -34,6 +40,9 @@ class VolumeFraction {
   explicit VolumeFraction(const LevelSet& level_set);
 
   bool enabled() const { return !m_fraction.empty(); }
+  /// The domain's open sides (−x, +x, −y, +y, −z, +z): water leaving through them is carried
+  /// out and counted; none comes in through any side.
+  void set_open(const std::array<bool, 6>& open) { m_open = open; }
   const std::vector<double>& values() const { return m_fraction; }
   std::vector<double>& values() { return m_fraction; }
   /// Σ F Δx³ [m^3].
@@ -45,6 +54,10 @@ class VolumeFraction {
   /// alternates the order of the sweeps (x y z, then z y x).
   void advect(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
               double dt, std::int64_t step);
+  /// Unites the shape of signed distance `distance` [m] with the water in the MAC cells of
+  /// `cells` (an emitter: F = max(F, the shape's fraction)); returns the water added [m^3].
+  double fill(const std::function<double(const Eigen::Vector3d&)>& distance,
+              const grid::IndexBox& cells);
   /// φ at the centre of each cell F cuts set to its signed distance to F's plane there
   /// (normal from φ); a cell F holds no water in made air, one it fills made water. With
   /// `signs_only`, only the cells whose side disagrees with F's (F ≥ ½ is water): after
@@ -71,6 +84,7 @@ class VolumeFraction {
   std::vector<double> m_fraction;
   std::vector<double> m_next;
   std::vector<std::uint8_t> m_full;  ///< the dilation term's cells: φ^n's liquid cells
+  std::array<bool, 6> m_open{};
   VolumeFractionStats m_stats;
 };
 

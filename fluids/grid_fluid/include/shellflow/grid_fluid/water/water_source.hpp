@@ -35,6 +35,10 @@ class WaterSource {
   void require_in_domain(const grid::UniformGrid& grid, const std::string& json_path) const {
     m_emitter.require_in_domain(grid, json_path, "it would never add water");
   }
+  /// The signed distance from p to the emitter's shape [m] (negative inside).
+  double signed_distance(const Eigen::Vector3d& p) const { return m_emitter.signed_distance(p); }
+  /// The emitter shape's bounding box.
+  Eigen::AlignedBox3d bounds() const { return m_emitter.bounds(); }
   /// Does the emitter's shape contain p?
   bool contains(const Eigen::Vector3d& p) const { return m_emitter.contains(p); }
   /// The cells whose centre may lie inside it (clamped to the grid).
