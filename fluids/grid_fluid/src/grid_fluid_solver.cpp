@@ -763,7 +763,8 @@ void GridFluid::report(sdk::Metrics& out) const {
     // prescribed flow): K + P is what shellflow bench's energy_change follows.
     const FreeSurface& surface = m_liquid->last_surface();
     if (surface.cell_phi.size() == static_cast<size_t>(m_mac.grid().size(Location::Cell))) {
-      const WaterEnergy e = water_energy(m_mac, surface, m_density, m_context.gravity);
+      const WaterEnergy e = water_energy(m_mac, surface, m_density, m_context.gravity,
+                                         m_liquid->fraction().values());
       out.set("kinetic_energy", e.kinetic);
       out.set("potential_energy", e.potential);
       out.set("max_liquid_speed", e.max_liquid_speed);

@@ -54,7 +54,7 @@ double water_cell_fraction(double phi, double dx) {
 }
 
 WaterEnergy water_energy(const MacGrid& mac, const FreeSurface& surface, double density,
-                         const Eigen::Vector3d& gravity) {
+                         const Eigen::Vector3d& gravity, std::span<const double> fraction) {
   const grid::UniformGrid& grid = mac.grid();
   const std::int64_t cells = grid.size(Location::Cell);
   SHELLFLOW_ASSERT(static_cast<std::int64_t>(surface.cell_phi.size()) == cells);
@@ -77,10 +77,12 @@ WaterEnergy water_energy(const MacGrid& mac, const FreeSurface& surface, double 
     e.max_surface_face_speed = std::max(e.max_surface_face_speed, thin);
   }
   e.kinetic = 0.5 * density * weighted * cell_volume;
-  const double water = ordered_sum(
-      cells, [&](std::int64_t c) { return water_cell_fraction(surface.cell_phi[c], dx); });
+  const auto water_in = [&](std::int64_t c) {
+    return fraction.empty() ? water_cell_fraction(surface.cell_phi[c], dx) : fraction[c];
+  };
+  const double water = ordered_sum(cells, water_in);
   const double height = ordered_sum(cells, [&](std::int64_t c) {
-    const double v = water_cell_fraction(surface.cell_phi[c], dx);
+    const double v = water_in(c);
     return v == 0.0 ? 0.0 : v * gravity.dot(grid.position(Location::Cell, c));
   });
   e.mass = density * water * cell_volume;

@@ -20,6 +20,7 @@
 // fraction f full holds its water f(1 − f)Δx/2 off its centre).
 
 #include <Eigen/Core>
+#include <span>
 
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
@@ -43,8 +44,11 @@ double water_cell_fraction(double phi, double dx);
 
 /// The energy of the water in `mac` (its face velocities as they stand) whose cells
 /// `surface` gives (cell_phi: one value per cell of mac.grid()); `density` ρ [kg/m^3],
-/// `gravity` g [m/s^2]. Sums are ordered_sum's: the same bits on any number of threads.
+/// `gravity` g [m/s^2]. `fraction`, when given (the water fraction per cell, "volume_fraction"),
+/// is each cell's water for the potential energy and the mass instead of the first-order
+/// fraction of its φ. Sums are ordered_sum's: the same bits on any number of threads.
 WaterEnergy water_energy(const MacGrid& mac, const FreeSurface& surface, double density,
-                         const Eigen::Vector3d& gravity);
+                         const Eigen::Vector3d& gravity,
+                         std::span<const double> fraction = {});
 
 }  // namespace shellflow::grid_fluid
