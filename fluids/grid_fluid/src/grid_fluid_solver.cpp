@@ -605,6 +605,10 @@ void GridFluid::restore(sdk::StateReader& in) {
       throw Error("grid_fluid restore(): the state holds no water fraction (it was saved without "
                   "/fluid/water/volume_fraction); run the scene afresh with --overwrite");
     m_liquid->restore_fraction(in);
+  } else if (m_liquid && !in.at_end()) {
+    throw Error("grid_fluid restore(): the state holds more than this scene reads (it was saved "
+                "with other /fluid/water options: volume_fraction or volume_by_phase); run the "
+                "scene it was saved with, or run afresh with --overwrite");
   }
   m_geometry_n.reset();
   m_geometry_np1.reset();
@@ -775,7 +779,9 @@ void GridFluid::report(sdk::Metrics& out) const {
       // what keeping F in [0, 1] cost.
       const VolumeFractionStats& f = m_liquid->fraction().stats();
       out.set("water_volume_level_set", m_liquid->level_set().volume());
-      out.set("water_fraction_clipped", f.clipped);
+      out.set("water_fraction_clipped", m_liquid->fraction().clipped_total());
+      out.set("water_fraction_divergence", f.divergence);
+      out.set("water_fraction_parts", static_cast<double>(f.parts));
       out.set("water_fraction_excess", f.excess);
       out.set("water_fraction_mixed_cells", static_cast<double>(f.mixed_cells));
     }

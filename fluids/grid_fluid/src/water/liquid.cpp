@@ -311,13 +311,44 @@ const NodeFields& Liquid::particle_velocity(const NodeFields& nodes, const MacGr
   return m_centre_velocity;
 }
 
+void Liquid::advect_fraction(double t, const MacGrid& mac, double dt) {
+  // F moves with φ^n's planes; with the projection's faces next to liquid cells once there
+  // has been a projection. The water the dilation term makes in an emitter's cells is what
+  // its held faces push out: added.
+  std::array<const std::vector<double>*, 3> faces;
+  for (int a = 0; a < 3; ++a)
+    faces[a] = m_transport[a].empty() ? &mac.face_velocity(a) : &m_transport[a];
+  // The emitters whose held faces those faces carry: the last projection's (none yet: now).
+  std::vector<grid::IndexBox> now;
+  if (m_transport[0].empty())
+    for (const WaterSource& s : m_sources)
+      if (s.active(t)) now.push_back(emitter_cells(s));
+  m_fraction.advect(faces, m_level_set, dt, m_fraction_steps++,
+                    m_transport[0].empty() ? now : m_transport_sources);
+  m_budget.outflow += m_fraction.stats().outflow;
+  m_budget.added += m_fraction.stats().dilated;
+}
+
+grid::IndexBox Liquid::emitter_cells(const WaterSource& s) const {
+  // Every cell the shape reaches: those whose centres lie within a cell of its box.
+  const grid::UniformGrid& mac = m_level_set.mac_grid();
+  return mac.samples_in_box(Location::Cell, s.bounds().min().array() - mac.dx(),
+                            s.bounds().max().array() + mac.dx());
+}
+
 void Liquid::save_fraction(sdk::StateWriter& out) const {
   const auto& f = m_fraction.values();
   out.write_column(f.data(), static_cast<std::int64_t>(f.size()));
   out.write(m_fraction_steps);
+  out.write(m_fraction.clipped_total());
   out.write(!m_transport[0].empty());
-  if (!m_transport[0].empty())
+  if (!m_transport[0].empty()) {
     for (const auto& u : m_transport) out.write_column(u.data(), static_cast<std::int64_t>(u.size()));
+    out.write(static_cast<std::int64_t>(m_transport_sources.size()));
+    for (const grid::IndexBox& box : m_transport_sources)
+      for (const Eigen::Vector3i* corner : {&box.lo, &box.hi})
+        for (int a = 0; a < 3; ++a) out.write(static_cast<std::int64_t>((*corner)[a]));
+  }
 }
 
 void Liquid::restore_fraction(sdk::StateReader& in) {
@@ -330,11 +361,21 @@ void Liquid::restore_fraction(sdk::StateReader& in) {
   };
   read(m_fraction.values(), m_fraction.values().size());
   m_fraction_steps = in.read<std::int64_t>();
+  m_fraction.set_clipped_total(in.read<double>());
   const grid::UniformGrid& grid = m_level_set.mac_grid();
-  if (in.read<bool>())
+  m_transport_sources.clear();
+  if (in.read<bool>()) {
     for (int a = 0; a < 3; ++a) read(m_transport[a], static_cast<size_t>(grid.size(face_location(a))));
-  else
+    const std::int64_t boxes = in.read<std::int64_t>();
+    for (std::int64_t b = 0; b < boxes; ++b) {
+      grid::IndexBox box;
+      for (Eigen::Vector3i* corner : {&box.lo, &box.hi})
+        for (int a = 0; a < 3; ++a) (*corner)[a] = static_cast<int>(in.read<std::int64_t>());
+      m_transport_sources.push_back(box);
+    }
+  } else {
     for (auto& u : m_transport) u.clear();
+  }
 }
 
 void Liquid::centre_velocities(const MacGrid& mac) {
@@ -372,16 +413,6 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
   refuse_shells_on_cells(shells);
   if (cell_centred()) centre_velocities(mac);
   const NodeFields& velocity = cell_centred() ? m_centre_velocity : node_velocity;
-  if (m_fraction.enabled()) {
-    // F moves with φ^n's planes; with the projection's faces next to liquid cells once there
-    // has been a projection.
-    std::array<const std::vector<double>*, 3> faces;
-    for (int a = 0; a < 3; ++a)
-      faces[a] = m_transport[a].empty() ? &mac.face_velocity(a) : &m_transport[a];
-    m_fraction.advect(faces, m_level_set, dt, m_fraction_steps++);
-    m_budget.outflow += m_fraction.stats().outflow;
-    m_budget.added += m_fraction.stats().dilated;
-  }
   m_stats = LiquidStats{};
   m_invalid.clear();
   if (m_by_phase) {
@@ -392,6 +423,7 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
     if (!std::isnan(m_phase_end)) m_phase_drift.between_steps += start_volume - m_phase_end;
     m_phase_end = start_volume;
   }
+  if (m_fraction.enabled()) advect_fraction(t, mac, dt);
   // The volume budget's flows over the step, from φ^n.
   const grid::UniformGrid& grid = m_level_set.mac_grid();
   // With a volume fraction the budget counts what F carries out and what the emitters add
@@ -430,29 +462,27 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
 void Liquid::add_sources(double t, DomainBoundary& boundary) {
   const auto start = std::chrono::steady_clock::now();
   m_emitting.clear();
-  const grid::UniformGrid& grid = m_level_set.grid();
+  m_held_sources.clear();
   for (size_t i = 0; i < m_sources.size(); ++i) {
     const WaterSource& s = m_sources[i];
     if (!s.active(t)) continue;
+    m_held_sources.push_back(emitter_cells(s));
     const grid::IndexBox reach = emitter_reach(m_level_set, s);
     const bool counted = m_emitter_filling.size() <= i || m_emitter_filling[i] != 0;
-    const double before = counted ? m_level_set.volume(reach) : 0.0;
+    const double before = counted && !m_fraction.enabled() ? m_level_set.volume(reach) : 0.0;
     const std::int64_t nodes = s.apply(t, m_level_set);
     if (m_fraction.enabled())
       m_budget.added += m_fraction.fill(
-          [&s](const Eigen::Vector3d& p) { return s.signed_distance(p); },
-          // Every cell the shape reaches: those whose centres lie within a cell of its box.
-          m_level_set.mac_grid().samples_in_box(
-              Location::Cell, s.bounds().min().array() - m_level_set.mac_grid().dx(),
-              s.bounds().max().array() + m_level_set.mac_grid().dx()));
+          [&s](const Eigen::Vector3d& p) { return s.signed_distance(p); }, emitter_cells(s));
     else if (counted)
       m_budget.added += m_level_set.volume(reach) - before;
     m_stats.source_nodes += nodes;
     // Its water gets particles this step (the band's 3Δx about it), not at the next reseed,
     // and loses the air particles it now covers.
     if (nodes > 0) {
-      m_particles.drop_air_in_water(m_level_set, s.bounding_nodes(grid, 0.0));
-      m_emitting.push_back(s.bounding_nodes(grid, 3.0 * grid.dx()));
+      const grid::UniformGrid& mac = m_level_set.mac_grid();  // the particles' boxes
+      m_particles.drop_air_in_water(m_level_set, s.bounding_nodes(mac, 0.0));
+      m_emitting.push_back(s.bounding_nodes(mac, 3.0 * mac.dx()));
     }
   }
   for (int a = 0; a < 3; ++a) {
@@ -717,8 +747,10 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
           known[f] = neumann[f] != 0 ? 2 : set ? 1 : 0;  // 2: a shell's or wall's face
         }
   }
-  if (m_fraction.enabled())
+  if (m_fraction.enabled()) {
     for (int a = 0; a < 3; ++a) m_transport[a] = mac.face_velocity(a);
+    m_transport_sources = m_held_sources;
+  }
   m_stats.extrapolation =
       m_extrapolation.extrapolate(mac, m_known, m_level_set, m_extrapolation_width, shells, band);
   if (m_fraction.enabled()) {

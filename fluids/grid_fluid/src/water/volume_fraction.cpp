@@ -13,22 +13,57 @@ using grid::Location;
 namespace {
 
 /// F this close to 0 or 1 counts as empty or full: no plane is fitted to it.
-constexpr double kEmpty = 1e-9;
+constexpr double kFullOrEmpty = 1e-9;
+/// The most parts a step's sweeps are split into (a face far faster than the step's CFL
+/// speed, θ near 0, would otherwise split every step of the whole grid: its excess Courant
+/// number is then clipped at the donor's water, and counted).
+constexpr int kMostParts = 16;
 
 }  // namespace
 
 double VolumeFraction::box_fraction_below(const Eigen::Vector3d& normal, double d,
                                           const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-  // A plane's signed distance is linear: the marching tetrahedra of LevelSet::cell_fraction
-  // are exact for it, in a box of any proportions (an affine map keeps the fraction).
-  std::array<double, 8> corner;
-  for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3i step = corner_step(c);
-    const Eigen::Vector3d x(step.x() ? hi.x() : lo.x(), step.y() ? hi.y() : lo.y(),
-                            step.z() ? hi.z() : lo.z());
-    corner[c] = normal.dot(x) - d;
+  // Scardovelli and Zaleski 2000 (J. Comput. Phys. 164): with the box moved to [0, c] and
+  // each axis turned so that m_i = |n_i| >= 0, the region Σ m_i z_i <= α is a corner
+  // simplex less the parts beyond each face, by inclusion and exclusion. An axis the plane
+  // runs along (m_i ≈ 0) drops out: its extent times the lower-dimensional measure.
+  const Eigen::Vector3d c = hi - lo;
+  double alpha = d - normal.dot(lo);
+  std::array<double, 3> m{}, extent{};
+  int used = 0;
+  double across = 1.0;  // the extents of the axes the plane runs along
+  const double largest = normal.cwiseAbs().maxCoeff();
+  for (int a = 0; a < 3; ++a) {
+    if (normal[a] < 0.0) alpha -= normal[a] * c[a];
+    if (std::abs(normal[a]) <= 1e-9 * largest) {
+      across *= c[a];
+      continue;
+    }
+    m[used] = std::abs(normal[a]);
+    extent[used++] = c[a];
   }
-  return LevelSet::cell_fraction(corner);
+  const double volume = c.prod();
+  if (volume <= 0.0) return 0.0;
+  const auto pos = [](double x, int power) {
+    return x > 0.0 ? (power == 3 ? x * x * x : power == 2 ? x * x : x) : 0.0;
+  };
+  double measure = 0.0;  // of the used axes' box below the plane
+  if (used == 0) {
+    measure = alpha >= 0.0 ? 1.0 : 0.0;
+  } else if (used == 1) {
+    measure = std::clamp(alpha / m[0], 0.0, extent[0]);
+  } else if (used == 2) {
+    const double a1 = m[0] * extent[0], a2 = m[1] * extent[1];
+    measure = (pos(alpha, 2) - pos(alpha - a1, 2) - pos(alpha - a2, 2) + pos(alpha - a1 - a2, 2)) /
+              (2.0 * m[0] * m[1]);
+  } else {
+    const double a1 = m[0] * extent[0], a2 = m[1] * extent[1], a3 = m[2] * extent[2];
+    measure = (pos(alpha, 3) - pos(alpha - a1, 3) - pos(alpha - a2, 3) - pos(alpha - a3, 3) +
+               pos(alpha - a1 - a2, 3) + pos(alpha - a1 - a3, 3) + pos(alpha - a2 - a3, 3) -
+               pos(alpha - a1 - a2 - a3, 3)) /
+              (6.0 * m[0] * m[1] * m[2]);
+  }
+  return std::clamp(measure * across / volume, 0.0, 1.0);
 }
 
 double VolumeFraction::plane_height(const Eigen::Vector3d& normal, double fraction) {
@@ -138,57 +173,71 @@ Eigen::Vector3d VolumeFraction::normal_at(const LevelSet& level_set, const Eigen
 }
 
 void VolumeFraction::advect(const std::array<const std::vector<double>*, 3>& u,
-                            const LevelSet& level_set, double dt, std::int64_t step) {
+                            const LevelSet& level_set, double dt, std::int64_t step,
+                            const std::vector<grid::IndexBox>& sources) {
   m_stats = VolumeFractionStats{};
   // Weymouth and Yue's sweeps keep F in [0, 1] up to a Courant number of ½ per sweep: the
   // step is split to stay within it (the faces next to liquid cells carry the projection's
-  // values, which may outrun the step's CFL speed where θ is small).
+  // values, which may outrun the step's CFL speed where θ is small), up to kMostParts.
   double fastest = 0.0;
   for (int a = 0; a < 3; ++a)
     for (const double w : *u[a]) fastest = std::max(fastest, std::abs(w));
-  const int parts = std::max(1, static_cast<int>(std::ceil(fastest * dt / m_mac.dx() / 0.5)));
+  const int parts = std::clamp(static_cast<int>(std::ceil(fastest * dt / m_mac.dx() / 0.5)), 1,
+                               kMostParts);
   // The dilation term's cells: the liquid cells of φ^n, whose faces the projection made
   // divergence free, so that the terms add up to nothing (Weymouth and Yue take F > ½,
-  // which φ^n's liquid cells are once correct() has moved φ to F).
+  // which φ^n's liquid cells are once correct() has moved φ to F) but in the emitters'
+  // cells, whose held faces push water out.
   const auto& phi = level_set.phi();
-  m_full.resize(phi.size());
-  for (size_t c = 0; c < phi.size(); ++c) m_full[c] = phi[c] <= 0.0 ? 1 : 0;
-  double clipped = 0.0, outflow = 0.0, dilated = 0.0;
+  const std::int64_t count = m_mac.size(Location::Cell);
+  m_dilating.resize(count);
+  for (std::int64_t c = 0; c < count; ++c) m_dilating[c] = phi[c] <= 0.0 ? 1 : 0;
+  m_in_source.assign(count, 0);
+  for (const grid::IndexBox& box : sources)
+    for (int k = box.lo.z(); k <= box.hi.z(); ++k)
+      for (int j = box.lo.y(); j <= box.hi.y(); ++j)
+        for (int i = box.lo.x(); i <= box.hi.x(); ++i) m_in_source[m_mac.index(Location::Cell, i, j, k)] = 1;
+  m_normal.assign(count, Eigen::Vector3d::Zero());
+  double clipped = 0.0, outflow = 0.0, dilated = 0.0, divergence = 0.0;
   for (int part = 0; part < parts; ++part) {
-    sweep(u, level_set, dt / parts, step * 3 + part);
+    sweeps(u, level_set, dt / parts, step * 3 + part);
     clipped += m_stats.clipped;
     outflow += m_stats.outflow;
     dilated += m_stats.dilated;
+    divergence += m_stats.divergence;
   }
   m_stats.clipped = clipped;
   m_stats.outflow = outflow;
   m_stats.dilated = dilated;
+  m_stats.divergence = divergence;
+  m_stats.parts = parts;
+  m_clipped_total += clipped;
 }
 
-void VolumeFraction::sweep(const std::array<const std::vector<double>*, 3>& u,
-                           const LevelSet& level_set, double dt, std::int64_t step) {
+void VolumeFraction::sweeps(const std::array<const std::vector<double>*, 3>& u,
+                            const LevelSet& level_set, double dt, std::int64_t order) {
   const Eigen::Vector3i n = m_mac.cells();
   const std::int64_t count = m_mac.size(Location::Cell);
   const double dx = m_mac.dx();
-  // The planes' normals from φ^n, once for the step's mixed cells.
-  std::vector<Eigen::Vector3d> normal(count, Eigen::Vector3d::Zero());
-#pragma omp parallel for schedule(static)
-  for (std::int64_t c = 0; c < count; ++c)
-    if (m_fraction[c] > kEmpty && m_fraction[c] < 1.0 - kEmpty)
-      normal[c] = normal_at(level_set, m_mac.coordinates(Location::Cell, c));
-  double clipped = 0.0, outflow = 0.0, dilated = 0.0;
-  for (int sweep = 0; sweep < 3; ++sweep) {
-    const int a = step % 2 == 0 ? sweep : 2 - sweep;
+  const auto mixed = [](double f) { return f > kFullOrEmpty && f < 1.0 - kFullOrEmpty; };
+  // Per row of cells (j, k), summed in order afterwards: the same bits on any thread count.
+  const std::int64_t rows = std::int64_t(n.y()) * n.z();
+  std::vector<double> row_clipped(rows), row_dilated(rows), row_divergence(rows);
+  double clipped = 0.0, outflow = 0.0, dilated = 0.0, divergence = 0.0;
+  for (int pass = 0; pass < 3; ++pass) {
+    const int a = order % 2 == 0 ? pass : 2 - pass;
     const auto& w = *u[a];
     const Location loc = face_location(a);
-    // Each mixed cell's plane height for this sweep's F.
-    std::vector<double> height(count, 0.0);
+    // Each cell F cuts now: its plane, the normal from φ^n (found once a cell is first cut).
+    m_height.resize(count);
 #pragma omp parallel for schedule(static)
-    for (std::int64_t c = 0; c < count; ++c)
-      if (!normal[c].isZero() && m_fraction[c] > kEmpty && m_fraction[c] < 1.0 - kEmpty)
-        height[c] = plane_height(normal[c], m_fraction[c]);
-    // The water each face carries this sweep [cell volumes], + along the axis.
-    std::vector<double> carried(m_mac.size(loc), 0.0);
+    for (std::int64_t c = 0; c < count; ++c) {
+      if (!mixed(m_fraction[c])) continue;
+      if (m_normal[c].isZero()) m_normal[c] = normal_at(level_set, m_mac.coordinates(Location::Cell, c));
+      m_height[c] = plane_height(m_normal[c], m_fraction[c]);
+    }
+    // The water each face carries this pass [cell volumes], + along the axis.
+    m_carried.assign(m_mac.size(loc), 0.0);
 #pragma omp parallel for schedule(static)
     for (std::int64_t f = 0; f < m_mac.size(loc); ++f) {
       const Eigen::Vector3i ijk = m_mac.coordinates(loc, f);
@@ -202,9 +251,9 @@ void VolumeFraction::sweep(const std::array<const std::vector<double>*, 3>& u,
       const std::int64_t d = m_mac.index(Location::Cell, donor);
       const double fraction = m_fraction[d];
       double water;
-      if (fraction <= kEmpty) {
+      if (fraction <= kFullOrEmpty) {
         water = 0.0;
-      } else if (fraction >= 1.0 - kEmpty || normal[d].isZero()) {
+      } else if (!mixed(fraction)) {
         water = s * fraction;
       } else {
         // The donor's slab next to the face, below its plane.
@@ -213,58 +262,78 @@ void VolumeFraction::sweep(const std::array<const std::vector<double>*, 3>& u,
           lo[a] = 0.5 - s;
         else
           hi[a] = -0.5 + s;
-        water = s * box_fraction_below(normal[d], height[d], lo, hi);
+        water = s * box_fraction_below(m_normal[d], m_height[d], lo, hi);
       }
-      carried[f] = w[f] > 0.0 ? water : -water;
+      m_carried[f] = w[f] > 0.0 ? water : -water;
     }
+    // What leaves through the open sides: the faces of the two boundary planes.
     for (int side = 0; side < 2; ++side) {
       if (!m_open[2 * a + side]) continue;
-      const double sign = side == 0 ? -1.0 : 1.0;  // carried is + along the axis
-      outflow += ordered_sum(m_mac.size(loc), [&](std::int64_t f) {
-        const int along = m_mac.coordinates(loc, f)[a];
-        return along == (side == 0 ? 0 : n[a]) ? sign * carried[f] : 0.0;
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      const double sign = side == 0 ? -1.0 : 1.0;  // m_carried is + along the axis
+      outflow += ordered_sum(std::int64_t(n[b]) * n[c], [&](std::int64_t r) {
+        Eigen::Vector3i face;
+        face[a] = side == 0 ? 0 : n[a];
+        face[b] = static_cast<int>(r % n[b]);
+        face[c] = static_cast<int>(r / n[b]);
+        return sign * m_carried[m_mac.index(loc, face)];
       });
     }
     // F − (out − in) + c (u⁺ − u⁻) dt/Δx (Weymouth and Yue 2010, eq. 9).
-#pragma omp parallel for schedule(static) reduction(+ : clipped, dilated)
-    for (std::int64_t c = 0; c < count; ++c) {
-      const Eigen::Vector3i ijk = m_mac.coordinates(Location::Cell, c);
-      Eigen::Vector3i upper = ijk;
-      upper[a] += 1;
-      const std::int64_t f_lo = m_mac.index(loc, ijk), f_hi = m_mac.index(loc, upper);
-      double value = m_fraction[c] + carried[f_lo] - carried[f_hi];
-      if (m_full[c] != 0) {
-        const double dilation = (w[f_hi] - w[f_lo]) * dt / dx;
-        value += dilation;
-        dilated += dilation;
+#pragma omp parallel for collapse(2) schedule(static)
+    for (int k = 0; k < n.z(); ++k)
+      for (int j = 0; j < n.y(); ++j) {
+        const std::int64_t row = j + std::int64_t(n.y()) * k;
+        double row_clip = 0.0, row_dil = 0.0, row_div = 0.0;
+        for (int i = 0; i < n.x(); ++i) {
+          const Eigen::Vector3i ijk(i, j, k);
+          const std::int64_t c = m_mac.index(Location::Cell, ijk);
+          Eigen::Vector3i upper = ijk;
+          upper[a] += 1;
+          const std::int64_t f_lo = m_mac.index(loc, ijk), f_hi = m_mac.index(loc, upper);
+          double value = m_fraction[c] + m_carried[f_lo] - m_carried[f_hi];
+          if (m_dilating[c] != 0) {
+            const double dilation = (w[f_hi] - w[f_lo]) * dt / dx;
+            value += dilation;
+            (m_in_source[c] != 0 ? row_dil : row_div) += dilation;
+          }
+          // Where the air's extrapolated faces converge a cell may take in more than it
+          // holds: the excess stays in it (carried on with the flux of a full cell) rather
+          // than being lost. Below zero there is nothing to carry.
+          const double kept = std::max(value, 0.0);
+          row_clip += kept - value;
+          m_fraction[c] = kept;
+        }
+        row_clipped[row] = row_clip;
+        row_dilated[row] = row_dil;
+        row_divergence[row] = row_div;
       }
-      // Where the air's extrapolated faces converge a cell may take in more than it holds:
-      // the excess stays in it (carried on with the flux of a full cell) rather than being
-      // lost. Below zero there is nothing to carry.
-      const double kept = std::max(value, 0.0);
-      clipped += kept - value;
-      m_fraction[c] = kept;
-    }
+    clipped += ordered_sum(rows, [&](std::int64_t r) { return row_clipped[r]; });
+    dilated += ordered_sum(rows, [&](std::int64_t r) { return row_dilated[r]; });
+    divergence += ordered_sum(rows, [&](std::int64_t r) { return row_divergence[r]; });
   }
-  m_stats.clipped = clipped * dx * dx * dx;
-  m_stats.outflow = outflow * dx * dx * dx;
-  m_stats.dilated = dilated * dx * dx * dx;
+  const double cell = dx * dx * dx;
+  m_stats.clipped = clipped * cell;
+  m_stats.outflow = outflow * cell;
+  m_stats.dilated = dilated * cell;
+  m_stats.divergence = divergence * cell;
 }
 
 void VolumeFraction::correct(LevelSet& level_set, bool signs_only) {
   auto& phi = level_set.phi();
   const double dx = m_mac.dx();
   const std::int64_t count = m_mac.size(Location::Cell);
-  std::vector<double> corrected(phi);
+  m_corrected = phi;
+  std::vector<double>& corrected = m_corrected;
   std::int64_t moved = 0, mixed = 0;
 #pragma omp parallel for schedule(static) reduction(+ : moved, mixed)
   for (std::int64_t c = 0; c < count; ++c) {
     const double fraction = m_fraction[c];
-    if (fraction <= kEmpty) {
+    if (fraction <= kFullOrEmpty) {
       if (phi[c] <= 0.0) corrected[c] = 0.5 * dx, ++moved;  // F holds none: air
       continue;
     }
-    if (fraction >= 1.0 - kEmpty) {
+    if (fraction >= 1.0 - kFullOrEmpty) {
       if (phi[c] > 0.0) corrected[c] = -0.5 * dx, ++moved;  // F fills it: water
       continue;
     }

@@ -156,6 +156,10 @@ class Liquid {
   void carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
                          const ShellGeometry& shells_n, const ShellGeometry& shells);
 
+  /// advect()'s part for the water fraction: F over dt, its flows into the budget.
+  void advect_fraction(double t, const MacGrid& mac, double dt);
+  /// The MAC cells emitter `s`'s shape may reach.
+  grid::IndexBox emitter_cells(const WaterSource& s) const;
   /// Shells on cells are not taken yet (step C5): a ConfigError naming the option.
   void refuse_shells_on_cells(const ShellGeometry& shells) const;
   /// advect() on cells: the velocity at each cell centre, the mean of its two faces per axis
@@ -166,6 +170,8 @@ class Liquid {
   NodeFields m_centre_velocity;  ///< on cells: what φ's rays follow
   VolumeFraction m_fraction;
   std::array<std::vector<double>, 3> m_transport;  ///< the faces F moves with (extrapolate())
+  std::vector<grid::IndexBox> m_held_sources;       ///< cells of the emitters on this step
+  std::vector<grid::IndexBox> m_transport_sources;  ///< ... whose held faces m_transport has
   std::int64_t m_fraction_steps = 0;
   std::vector<double> m_scratch;      ///< φ* being advected; after advect(), φ^n
   std::vector<double> m_swept_value;  ///< refill(): their φ^n carried with the shell

@@ -23,10 +23,13 @@ namespace shellflow::grid_fluid {
 
 struct VolumeFractionStats {
   double outflow = 0.0;  ///< water [m^3] carried out through open sides this step
-  /// Water [m^3] the dilation term made in liquid cells whose faces are not divergence free:
-  /// the emitters' cells, whose held faces push water out of them (elsewhere the
-  /// projection's tolerance).
+  /// Water [m^3] the dilation term made in the emitters' cells, whose held faces push water
+  /// out of them (added to the budget).
   double dilated = 0.0;
+  /// Water [m^3] the dilation term made in other liquid cells: their faces' divergence, the
+  /// projection's tolerance (an error, not in the budget).
+  double divergence = 0.0;
+  int parts = 0;  ///< the step's sweeps were split into this many
   double clipped = 0.0;  ///< water [m^3] lost (−) or made (+) keeping F in [0, 1] this step
   double excess = 0.0;  ///< water [m^3] held beyond F = 1 (converging air faces), after the step
   std::int64_t mixed_cells = 0;    ///< cells with 0 < F < 1 after the step
@@ -51,9 +54,13 @@ class VolumeFraction {
 
   /// F over dt with the faces `u` of the MAC grid (per axis; the projection's values next
   /// to liquid cells, so those are divergence free), the planes' normals from φ. `step`
-  /// alternates the order of the sweeps (x y z, then z y x).
+  /// alternates the order of the sweeps (x y z, then z y x); `sources`, the cells of the
+  /// emitters that are on (what the dilation term makes there is added water).
   void advect(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
-              double dt, std::int64_t step);
+              double dt, std::int64_t step, const std::vector<grid::IndexBox>& sources = {});
+  /// Water [m^3] raised to F = 0 since the start (what F's lower bound made).
+  double clipped_total() const { return m_clipped_total; }
+  void set_clipped_total(double total) { m_clipped_total = total; }
   /// Unites the shape of signed distance `distance` [m] with the water in the MAC cells of
   /// `cells` (an emitter: F = max(F, the shape's fraction)); returns the water added [m^3].
   double fill(const std::function<double(const Eigen::Vector3d&)>& distance,
@@ -73,17 +80,23 @@ class VolumeFraction {
                                    const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 
  private:
-  /// One step of the three sweeps over dt (its Courant number at most ½); sets m_stats.clipped.
-  void sweep(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
-             double dt, std::int64_t step);
+  /// The three sweeps over dt (its Courant number at most ½), in the order `order` picks;
+  /// sets m_stats' clipped, outflow, dilated and divergence for them.
+  void sweeps(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
+              double dt, std::int64_t order);
   /// The unit normal (towards the air) at cell c: φ's gradient by central differences
   /// (one-sided at the walls), or −∇F where φ is flat there.
   Eigen::Vector3d normal_at(const LevelSet& level_set, const Eigen::Vector3i& c) const;
 
   grid::UniformGrid m_mac;
   std::vector<double> m_fraction;
-  std::vector<double> m_next;
-  std::vector<std::uint8_t> m_full;  ///< the dilation term's cells: φ^n's liquid cells
+  std::vector<std::uint8_t> m_dilating;   ///< the dilation term's cells: φ^n's liquid cells
+  std::vector<std::uint8_t> m_in_source;  ///< the cells of the emitters that are on
+  std::vector<Eigen::Vector3d> m_normal;  ///< the planes' normals (zero: not yet cut)
+  std::vector<double> m_height;           ///< the planes' heights this pass
+  std::vector<double> m_carried;          ///< the water each face carries this pass
+  std::vector<double> m_corrected;        ///< correct()'s φ being built
+  double m_clipped_total = 0.0;
   std::array<bool, 6> m_open{};
   VolumeFractionStats m_stats;
 };
