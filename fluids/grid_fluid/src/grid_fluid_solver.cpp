@@ -722,6 +722,75 @@ double GridFluid::smoke_mass() const {
   return sum * dx * dx * dx;
 }
 
+void GridFluid::report_water(sdk::Metrics& out) const {
+  const auto& p = m_stats.projection;
+  const auto& w = m_liquid->stats();
+  // Against the shells where the water is now (m_geometry_np1 holds the step's start).
+  const double volume = m_liquid->volume(m_geometry_n.get(), m_band_used ? &m_band : nullptr);
+  out.set("water_volume", volume);
+  out.set("water_volume_change", volume - m_liquid->initial_volume());
+  const VolumeBudget& budget = m_liquid->budget();
+  out.set("water_volume_added", budget.added);
+  out.set("water_volume_outflow", budget.outflow);
+  const double held = m_liquid->initial_volume() + budget.added - budget.outflow;
+  out.set("water_volume_drift", volume - held);
+  warn_of_volume_drift(volume, held);
+  if (const PhaseDrift* d = m_liquid->phase_drift()) {
+    out.set("water_drift_advection", d->advection);
+    out.set("water_drift_shells", d->shells);
+    out.set("water_drift_reinitialization", d->reinitialization);
+    out.set("water_drift_between_steps", d->between_steps);
+  }
+  if (m_prescribed)
+    out.set("water_symmetric_difference",
+            m_liquid->level_set().symmetric_difference(m_initial_phi));
+  // The energy of the water the last projection saw (none before it, nor in a
+  // prescribed flow): K + P is what shellflow bench's energy_change follows.
+  const FreeSurface& surface = m_liquid->last_surface();
+  if (surface.cell_phi.size() == static_cast<size_t>(m_mac.grid().size(Location::Cell))) {
+    const WaterEnergy e = water_energy(m_mac, surface, m_density, m_context.gravity,
+                                       m_liquid->fraction().values());
+    out.set("kinetic_energy", e.kinetic);
+    out.set("potential_energy", e.potential);
+    out.set("max_liquid_speed", e.max_liquid_speed);
+    out.set("max_surface_face_speed", e.max_surface_face_speed);
+  }
+  if (m_liquid->fraction().enabled()) {
+    // What F keeps that φ does not show (layers thinner than half a cell on a wall), and
+    // what keeping F in [0, 1] cost.
+    const VolumeFractionStats& f = m_liquid->fraction().stats();
+    out.set("water_volume_level_set", m_liquid->level_set().volume());
+    out.set("water_fraction_clipped", m_liquid->fraction().clipped_total());
+    out.set("water_fraction_divergence", f.divergence);
+    out.set("water_fraction_parts", static_cast<double>(f.parts));
+    out.set("water_fraction_excess", f.excess);
+    out.set("water_fraction_mixed_cells", static_cast<double>(f.mixed_cells));
+  }
+  out.set("liquid_cells", static_cast<double>(p.liquid_cells));
+  out.set("pressure_solve_cells", static_cast<double>(p.solve_cells));
+  out.set("level_set_invalid_nodes", static_cast<double>(w.invalid_nodes));
+  out.set("fmm_interface_nodes", static_cast<double>(w.reinitialization.interface_nodes));
+  out.set("fmm_marched_nodes", static_cast<double>(w.reinitialization.marched_nodes));
+  out.set("extrapolated_faces", static_cast<double>(w.extrapolation.extrapolated_faces));
+  out.set("extrapolation_invalid_faces", static_cast<double>(w.extrapolation.invalid_faces));
+  out.set("t_level_set", w.t_level_set);
+  out.set("t_reinitialize", w.t_reinitialize);
+  out.set("t_extrapolate", w.t_extrapolate);
+  if (m_liquid->particles().enabled()) {
+    const ParticleStats& q = w.particles;
+    out.set("particles_negative", static_cast<double>(q.negative));
+    out.set("particles_positive", static_cast<double>(q.positive));
+    out.set("particles_escaped", static_cast<double>(q.escaped));
+    out.set("particles_corrected_nodes", static_cast<double>(q.corrected_nodes));
+    out.set("particles_deleted_at_shells", static_cast<double>(q.deleted_at_shells));
+    out.set("particles_kept_off_shells", static_cast<double>(q.kept_off_shells));
+    out.set("particles_removed", static_cast<double>(q.removed));
+    out.set("particles_reseeded", static_cast<double>(q.reseeded));
+    out.set("particles_spray", static_cast<double>(q.spray));
+    out.set("t_particles", q.seconds);
+  }
+}
+
 void GridFluid::report(sdk::Metrics& out) const {
   const auto& p = m_stats.projection;
   out.set("pcg_iterations", p.iterations);
@@ -743,71 +812,7 @@ void GridFluid::report(sdk::Metrics& out) const {
           m_liquid ? static_cast<double>(m_liquid->level_set().phi().size()) : 0.0);
   out.set("smoke_nodes", static_cast<double>(m_nodes.density().size()));
   if (m_liquid) {
-    const auto& w = m_liquid->stats();
-    // Against the shells where the water is now (m_geometry_np1 holds the step's start).
-    const double volume = m_liquid->volume(m_geometry_n.get(), m_band_used ? &m_band : nullptr);
-    out.set("water_volume", volume);
-    out.set("water_volume_change", volume - m_liquid->initial_volume());
-    const VolumeBudget& budget = m_liquid->budget();
-    out.set("water_volume_added", budget.added);
-    out.set("water_volume_outflow", budget.outflow);
-    const double held = m_liquid->initial_volume() + budget.added - budget.outflow;
-    out.set("water_volume_drift", volume - held);
-    warn_of_volume_drift(volume, held);
-    if (const PhaseDrift* d = m_liquid->phase_drift()) {
-      out.set("water_drift_advection", d->advection);
-      out.set("water_drift_shells", d->shells);
-      out.set("water_drift_reinitialization", d->reinitialization);
-      out.set("water_drift_between_steps", d->between_steps);
-    }
-    if (m_prescribed)
-      out.set("water_symmetric_difference",
-              m_liquid->level_set().symmetric_difference(m_initial_phi));
-    // The energy of the water the last projection saw (none before it, nor in a
-    // prescribed flow): K + P is what shellflow bench's energy_change follows.
-    const FreeSurface& surface = m_liquid->last_surface();
-    if (surface.cell_phi.size() == static_cast<size_t>(m_mac.grid().size(Location::Cell))) {
-      const WaterEnergy e = water_energy(m_mac, surface, m_density, m_context.gravity,
-                                         m_liquid->fraction().values());
-      out.set("kinetic_energy", e.kinetic);
-      out.set("potential_energy", e.potential);
-      out.set("max_liquid_speed", e.max_liquid_speed);
-      out.set("max_surface_face_speed", e.max_surface_face_speed);
-    }
-    if (m_liquid->fraction().enabled()) {
-      // What F keeps that φ does not show (layers thinner than half a cell on a wall), and
-      // what keeping F in [0, 1] cost.
-      const VolumeFractionStats& f = m_liquid->fraction().stats();
-      out.set("water_volume_level_set", m_liquid->level_set().volume());
-      out.set("water_fraction_clipped", m_liquid->fraction().clipped_total());
-      out.set("water_fraction_divergence", f.divergence);
-      out.set("water_fraction_parts", static_cast<double>(f.parts));
-      out.set("water_fraction_excess", f.excess);
-      out.set("water_fraction_mixed_cells", static_cast<double>(f.mixed_cells));
-    }
-    out.set("liquid_cells", static_cast<double>(p.liquid_cells));
-    out.set("pressure_solve_cells", static_cast<double>(p.solve_cells));
-    out.set("level_set_invalid_nodes", static_cast<double>(w.invalid_nodes));
-    out.set("fmm_interface_nodes", static_cast<double>(w.reinitialization.interface_nodes));
-    out.set("fmm_marched_nodes", static_cast<double>(w.reinitialization.marched_nodes));
-    out.set("extrapolated_faces", static_cast<double>(w.extrapolation.extrapolated_faces));
-    out.set("extrapolation_invalid_faces", static_cast<double>(w.extrapolation.invalid_faces));
-    out.set("t_level_set", w.t_level_set);
-    out.set("t_reinitialize", w.t_reinitialize);
-    out.set("t_extrapolate", w.t_extrapolate);
-    if (m_liquid->particles().enabled()) {
-      const ParticleStats& q = w.particles;
-      out.set("particles_negative", static_cast<double>(q.negative));
-      out.set("particles_positive", static_cast<double>(q.positive));
-      out.set("particles_escaped", static_cast<double>(q.escaped));
-      out.set("particles_corrected_nodes", static_cast<double>(q.corrected_nodes));
-      out.set("particles_deleted_at_shells", static_cast<double>(q.deleted_at_shells));
-      out.set("particles_kept_off_shells", static_cast<double>(q.kept_off_shells));
-      out.set("particles_removed", static_cast<double>(q.removed));
-      out.set("particles_reseeded", static_cast<double>(q.reseeded));
-      out.set("particles_spray", static_cast<double>(q.spray));
-      out.set("t_particles", q.seconds);
-    }
+    report_water(out);
   } else {
     out.set("smoke_mass", smoke_mass());
     // ½ ρ Σ u² Δx³ over the MAC faces: with the solids' energies, what a stability sweep

@@ -37,21 +37,14 @@ nlohmann::json scene(const std::string& layout, nlohmann::json water, int resolu
 /// A tank 0.5 m wide and 1 m high (16 x 32 x 16 cells).
 const nlohmann::json kTall = {{"min", {0, 0, 0}}, {"max", {0.5, 1.0, 0.5}}};
 
-/// Steps `f` from t to `until` at the CFL step (0.9), calling `each()` after every step
-/// (run_for always starts at 0: an emitter's end time needs the run's own clock).
-template <class F>
-double run_until(GridFluid& f, double t, double until, F&& each) {
-  while (t < until - 1e-12) {
-    const double dt = std::min(f.stable_dt(0.9), until - t);
-    f.advect(t, dt, {}, {});
-    f.project(dt, {}, {});
-    t += dt;
-    each();
-  }
+double run_until(GridFluid& f, double t, double until) {
+  test::run_between(f, t, until, [] {});
   return until;
 }
-double run_until(GridFluid& f, double t, double until) {
-  return run_until(f, t, until, [] {});
+template <class F>
+double run_until(GridFluid& f, double t, double until, F&& each) {
+  test::run_between(f, t, until, each);
+  return until;
 }
 
 double metric(const GridFluid& f, const std::string& key) {

@@ -414,18 +414,6 @@ TEST(VolumeFraction, ABoxDroppedOnTheDryFloorKeepsItsWater) {
   }
 }
 
-/// Steps `f` from t to `until` at the CFL step (0.9), calling each() after every step.
-template <class F>
-void run_from(GridFluid& f, double t, double until, F&& each) {
-  while (t < until - 1e-12) {
-    const double dt = std::min(f.stable_dt(0.9), until - t);
-    f.advect(t, dt, {}, {});
-    f.project(dt, {}, {});
-    t += dt;
-    each();
-  }
-}
-
 TEST(VolumeFraction, AStreamOntoTheDryFloorIsAllKept) {
   // The stream (water_cells_budget_test's): an emitter 6 x 4 x 6 cells pours at
   // 0.5 m/s onto the dry floor of a closed 16 x 32 x 16 tank until 1 s. What it adds is
@@ -441,7 +429,7 @@ TEST(VolumeFraction, AStreamOntoTheDryFloorIsAllKept) {
                                  {"velocity", {0.0, -0.5, 0.0}},
                                  {"end", 1.0}}};
   auto fluid = test::make_fluid(params);
-  run_from(*fluid, 0.0, 2.0, [] {});
+  test::run_between(*fluid, 0.0, 2.0, [] {});
   const double clipped = test::reported(*fluid, "water_fraction_clipped");  // since the start
   const double v = test::reported(*fluid, "water_volume");
   const double added = test::reported(*fluid, "water_volume_added");
@@ -472,7 +460,7 @@ TEST(VolumeFraction, WaterThrownThroughAnOpenTopIsCountedOutAndNoneComesIn) {
   auto fluid = test::make_fluid(params);
   double last = 0.0, worst = 0.0, clipped = 0.0;
   int decreases = 0;
-  run_from(*fluid, 0.0, 1.5, [&] {
+  test::run_between(*fluid, 0.0, 1.5, [&] {
     const double out = test::reported(*fluid, "water_volume_outflow");
     decreases += out < last ? 1 : 0;
     last = out;

@@ -394,10 +394,8 @@ void Liquid::centre_velocities(const MacGrid& mac) {
           double lower = u[grid.index(face_location(a), f)];
           f[a] += 1;
           double upper = u[grid.index(face_location(a), f)];
-          // An air cell against a wall: the wall's face holds the wall's velocity, not the
-          // water's continued, and averaged in it halved the speed of a surface falling
-          // onto the floor in its last cell, which lost the water between (its φ moves with
-          // the water's velocity, as the air's extrapolated faces do elsewhere).
+          // An air cell against a wall: its φ moves with the water's velocity continued, as
+          // the air's extrapolated faces carry it elsewhere; the wall's face holds the wall's.
           if (phi[cell] > 0.0 && cells[a] > 1) {
             if (f[a] == 1 && m_walls[2 * a]) lower = upper;
             if (f[a] == cells[a] && m_walls[2 * a + 1]) upper = lower;

@@ -122,6 +122,8 @@ class GridFluid final : public sdk::FluidSolver {
  private:
   /// Logs once for each level of drift the water's `volume` passes against what the scene
   /// holds, `held` (V0 + added − outflow; report() calls it).
+  /// report()'s water metrics: volume and its budget, energy, the phases' counts and times.
+  void report_water(sdk::Metrics& out) const;
   void warn_of_volume_drift(double volume, double held) const;
   /// Makes `cache` hold `shells` (rebuilds unless the positions match); true when rebuilt.
   bool ensure_geometry(std::unique_ptr<ShellGeometry>& cache, sdk::ShellSet shells) const;

@@ -35,7 +35,7 @@
 // undo the clipping. A cell field is filtered pass by pass inside ghost layers of φ_b
 // (constant beyond the centres, as the simulation continues it): the air OpenVDB assumes
 // beyond the samples would eat the water against the walls. A node field is filtered as it
-// is, and loses the water along the box's faces (a pool 3.3 cells deep, 5 passes: all).
+// is, and loses the water along the box's faces (docs/known-limits.md).
 //
 // Error: a smooth closed surface of curvature radius R meshed at Δx ≪ R from its exact
 // signed distance: the edge crossings lie on it to O(Δx²/R), a vertex (their mean) inside

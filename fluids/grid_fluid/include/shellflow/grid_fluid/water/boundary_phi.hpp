@@ -7,14 +7,12 @@
 // face points into the domain. There the face is the water's surface and nothing enters
 // from outside (issue #51; PhysBAM lets water in below a tolerance, here there is none):
 // φ at a distance e beyond b is max(−Δx/2, φ_b) + e, PhysBAM's ghost cells (e = Δx, 2Δx,
-// 3Δx) and the line through them continued to b. PhysBAM interpolates from φ_b to its first
-// ghost instead, which for deep water (φ_b < −Δx/2) puts the surface almost a cell beyond b:
-// water under a lid moving less than that a step never left it. Across rows φ is trilinear
-// as inside. Walls are never ruled: their faces hold no normal velocity, so constant
-// continuation.
-// Fast marching reads the same ghost (FastMarching::set_ghost): our march sets every cell
-// it does not reach from a surface to ±band, so deep water against such a face, read as
-// water a little less deep each step, was made deep again and never pulled away.
+// 3Δx) and the line through them continued to b, so that deep water pulls away from the side
+// as fast as its face moves (PhysBAM's interpolation from φ_b to its first ghost does not:
+// docs/water-cell-centres.md, C3). Across rows φ is trilinear as inside. Walls are never
+// ruled: their faces hold no normal velocity, so constant continuation.
+// Fast marching reads the same ghost (FastMarching::set_ghost): it sets every cell it does
+// not reach from a surface to ±band, which would make such water deep again each step.
 
 #include <array>
 #include <cstdint>
