@@ -558,7 +558,7 @@ void GridFluid::save(sdk::StateWriter& out) const {
         out.write(v);
       out.write(m_liquid->phase_end());
     }
-    if (m_liquid->fraction().enabled()) m_liquid->save_fraction(out);
+    if (m_liquid->fraction().enabled()) m_liquid->fraction().save(out);
   }
 }
 
@@ -604,7 +604,7 @@ void GridFluid::restore(sdk::StateReader& in) {
     if (in.at_end())
       throw Error("grid_fluid restore(): the state holds no water fraction (it was saved without "
                   "/fluid/water/volume_fraction); run the scene afresh with --overwrite");
-    m_liquid->restore_fraction(in);
+    m_liquid->fraction().restore(in);
   } else if (m_liquid && !in.at_end()) {
     throw Error("grid_fluid restore(): the state holds more than this scene reads (it was saved "
                 "with other /fluid/water options: volume_fraction or volume_by_phase); run the "

@@ -312,19 +312,11 @@ const NodeFields& Liquid::particle_velocity(const NodeFields& nodes, const MacGr
 }
 
 void Liquid::advect_fraction(double t, const MacGrid& mac, double dt) {
-  // F moves with φ^n's planes; with the projection's faces next to liquid cells once there
-  // has been a projection. The water the dilation term makes in an emitter's cells is what
-  // its held faces push out: added.
-  std::array<const std::vector<double>*, 3> faces;
-  for (int a = 0; a < 3; ++a)
-    faces[a] = m_transport[a].empty() ? &mac.face_velocity(a) : &m_transport[a];
-  // The emitters whose held faces those faces carry: the last projection's (none yet: now).
-  std::vector<grid::IndexBox> now;
-  if (m_transport[0].empty())
-    for (const WaterSource& s : m_sources)
-      if (s.active(t)) now.push_back(emitter_cells(s));
-  m_fraction.advect(faces, m_level_set, dt, m_fraction_steps++,
-                    m_transport[0].empty() ? now : m_transport_sources);
+  // Before the first projection F moves with the faces as they stand, the emitters on now.
+  std::vector<grid::IndexBox> on;
+  for (const WaterSource& s : m_sources)
+    if (s.active(t)) on.push_back(emitter_cells(s));
+  m_fraction.advect(mac, m_level_set, dt, on);
   m_budget.outflow += m_fraction.stats().outflow;
   m_budget.added += m_fraction.stats().dilated;
 }
@@ -334,48 +326,6 @@ grid::IndexBox Liquid::emitter_cells(const WaterSource& s) const {
   const grid::UniformGrid& mac = m_level_set.mac_grid();
   return mac.samples_in_box(Location::Cell, s.bounds().min().array() - mac.dx(),
                             s.bounds().max().array() + mac.dx());
-}
-
-void Liquid::save_fraction(sdk::StateWriter& out) const {
-  const auto& f = m_fraction.values();
-  out.write_column(f.data(), static_cast<std::int64_t>(f.size()));
-  out.write(m_fraction_steps);
-  out.write(m_fraction.clipped_total());
-  out.write(!m_transport[0].empty());
-  if (!m_transport[0].empty()) {
-    for (const auto& u : m_transport) out.write_column(u.data(), static_cast<std::int64_t>(u.size()));
-    out.write(static_cast<std::int64_t>(m_transport_sources.size()));
-    for (const grid::IndexBox& box : m_transport_sources)
-      for (const Eigen::Vector3i* corner : {&box.lo, &box.hi})
-        for (int a = 0; a < 3; ++a) out.write(static_cast<std::int64_t>((*corner)[a]));
-  }
-}
-
-void Liquid::restore_fraction(sdk::StateReader& in) {
-  const auto read = [&](std::vector<double>& v, size_t size) {
-    Eigen::VectorXd m;
-    in.read_matrix(m);
-    if (static_cast<size_t>(m.size()) != size)
-      throw Error("grid_fluid restore(): the saved water fraction is for another grid");
-    v.assign(m.data(), m.data() + m.size());
-  };
-  read(m_fraction.values(), m_fraction.values().size());
-  m_fraction_steps = in.read<std::int64_t>();
-  m_fraction.set_clipped_total(in.read<double>());
-  const grid::UniformGrid& grid = m_level_set.mac_grid();
-  m_transport_sources.clear();
-  if (in.read<bool>()) {
-    for (int a = 0; a < 3; ++a) read(m_transport[a], static_cast<size_t>(grid.size(face_location(a))));
-    const std::int64_t boxes = in.read<std::int64_t>();
-    for (std::int64_t b = 0; b < boxes; ++b) {
-      grid::IndexBox box;
-      for (Eigen::Vector3i* corner : {&box.lo, &box.hi})
-        for (int a = 0; a < 3; ++a) (*corner)[a] = static_cast<int>(in.read<std::int64_t>());
-      m_transport_sources.push_back(box);
-    }
-  } else {
-    for (auto& u : m_transport) u.clear();
-  }
 }
 
 void Liquid::centre_velocities(const MacGrid& mac) {
@@ -745,27 +695,12 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
           known[f] = neumann[f] != 0 ? 2 : set ? 1 : 0;  // 2: a shell's or wall's face
         }
   }
-  if (m_fraction.enabled()) {
-    for (int a = 0; a < 3; ++a) m_transport[a] = mac.face_velocity(a);
-    m_transport_sources = m_held_sources;
-  }
+  if (m_fraction.enabled()) m_fraction.keep_projected_faces(mac, m_held_sources);
   m_stats.extrapolation =
       m_extrapolation.extrapolate(mac, m_known, m_level_set, m_extrapolation_width, shells, band);
-  if (m_fraction.enabled()) {
-    // F's faces: the projection's next to a liquid cell (divergence free there), the
-    // extrapolated ones between air cells.
-    for (int a = 0; a < 3; ++a) {
-      const Location loc = face_location(a);
-      const auto& u = mac.face_velocity(a);
-      for (std::int64_t f = 0; f < grid.size(loc); ++f) {
-        Eigen::Vector3i c = grid.coordinates(loc, f);
-        bool liquid = c[a] < cells[a] && projection.fluid_cell(grid.index(Location::Cell, c));
-        c[a] -= 1;
-        liquid = liquid || (c[a] >= 0 && projection.fluid_cell(grid.index(Location::Cell, c)));
-        if (!liquid) m_transport[a][f] = u[f];
-      }
-    }
-  }
+  if (m_fraction.enabled())
+    m_fraction.take_extrapolated_faces(
+        mac, [&](std::int64_t cell) { return projection.fluid_cell(cell); });
   m_stats.t_extrapolate = seconds_since(start);
 }
 

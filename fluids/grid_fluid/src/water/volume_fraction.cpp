@@ -5,6 +5,7 @@
 
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/mac/ordered_sum.hpp"
+#include "shellflow/sdk/error.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -172,9 +173,62 @@ Eigen::Vector3d VolumeFraction::normal_at(const LevelSet& level_set, const Eigen
   return g.normalized();
 }
 
+void VolumeFraction::keep_projected_faces(const MacGrid& mac,
+                                          const std::vector<grid::IndexBox>& sources) {
+  for (int a = 0; a < 3; ++a) m_faces[a] = mac.face_velocity(a);
+  m_faces_sources = sources;
+}
+
+void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, double dt,
+                            const std::vector<grid::IndexBox>& on) {
+  std::array<const std::vector<double>*, 3> u;
+  for (int a = 0; a < 3; ++a) u[a] = m_faces[a].empty() ? &mac.face_velocity(a) : &m_faces[a];
+  advect(u, level_set, dt, m_faces[0].empty() ? on : m_faces_sources);
+}
+
+void VolumeFraction::save(sdk::StateWriter& out) const {
+  out.write_column(m_fraction.data(), static_cast<std::int64_t>(m_fraction.size()));
+  out.write(m_steps);
+  out.write(m_clipped_total);
+  out.write(!m_faces[0].empty());
+  if (m_faces[0].empty()) return;
+  for (const auto& u : m_faces) out.write_column(u.data(), static_cast<std::int64_t>(u.size()));
+  out.write(static_cast<std::int64_t>(m_faces_sources.size()));
+  for (const grid::IndexBox& box : m_faces_sources)
+    for (const Eigen::Vector3i* corner : {&box.lo, &box.hi})
+      for (int a = 0; a < 3; ++a) out.write(static_cast<std::int64_t>((*corner)[a]));
+}
+
+void VolumeFraction::restore(sdk::StateReader& in) {
+  const auto read = [&](std::vector<double>& v, std::int64_t size) {
+    Eigen::VectorXd m;
+    in.read_matrix(m);
+    if (m.size() != size)
+      throw Error("grid_fluid restore(): the saved water fraction is for another grid");
+    v.assign(m.data(), m.data() + m.size());
+  };
+  read(m_fraction, m_mac.size(Location::Cell));
+  m_steps = in.read<std::int64_t>();
+  m_clipped_total = in.read<double>();
+  m_faces_sources.clear();
+  if (!in.read<bool>()) {
+    for (auto& u : m_faces) u.clear();
+    return;
+  }
+  for (int a = 0; a < 3; ++a) read(m_faces[a], m_mac.size(face_location(a)));
+  const std::int64_t boxes = in.read<std::int64_t>();
+  for (std::int64_t b = 0; b < boxes; ++b) {
+    grid::IndexBox box;
+    for (Eigen::Vector3i* corner : {&box.lo, &box.hi})
+      for (int a = 0; a < 3; ++a) (*corner)[a] = static_cast<int>(in.read<std::int64_t>());
+    m_faces_sources.push_back(box);
+  }
+}
+
 void VolumeFraction::advect(const std::array<const std::vector<double>*, 3>& u,
-                            const LevelSet& level_set, double dt, std::int64_t step,
+                            const LevelSet& level_set, double dt,
                             const std::vector<grid::IndexBox>& sources) {
+  const std::int64_t step = m_steps++;
   m_stats = VolumeFractionStats{};
   // Weymouth and Yue's sweeps keep F in [0, 1] up to a Courant number of ½ per sweep: the
   // step is split to stay within it (the faces next to liquid cells carry the projection's

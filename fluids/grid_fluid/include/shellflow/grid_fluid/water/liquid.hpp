@@ -64,9 +64,7 @@ class Liquid {
   const ParticleLevelSet& particles() const { return m_particles; }
   /// The water fraction per cell ("volume_fraction"; not enabled() when off).
   const VolumeFraction& fraction() const { return m_fraction; }
-  /// The fraction's state for a checkpoint: F, the faces it moves with next, its steps.
-  void save_fraction(sdk::StateWriter& out) const;
-  void restore_fraction(sdk::StateReader& in);
+  VolumeFraction& fraction() { return m_fraction; }
   /// The velocities the particles move with, on φ's lattice: the node velocities `nodes`,
   /// or on cells the centres' means of the faces of `mac` (computed now).
   const NodeFields& particle_velocity(const NodeFields& nodes, const MacGrid& mac);
@@ -169,10 +167,7 @@ class Liquid {
   LevelSet m_level_set;
   NodeFields m_centre_velocity;  ///< on cells: what φ's rays follow
   VolumeFraction m_fraction;
-  std::array<std::vector<double>, 3> m_transport;  ///< the faces F moves with (extrapolate())
-  std::vector<grid::IndexBox> m_held_sources;       ///< cells of the emitters on this step
-  std::vector<grid::IndexBox> m_transport_sources;  ///< ... whose held faces m_transport has
-  std::int64_t m_fraction_steps = 0;
+  std::vector<grid::IndexBox> m_held_sources;  ///< cells of the emitters on this step
   std::vector<double> m_scratch;      ///< φ* being advected; after advect(), φ^n
   std::vector<double> m_swept_value;  ///< refill(): their φ^n carried with the shell
   std::vector<double> m_built;    ///< φ as the scene built it, until the first step

@@ -18,6 +18,7 @@
 
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
+#include "shellflow/sdk/state_buffer.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -52,15 +53,26 @@ class VolumeFraction {
   double volume() const;
   const VolumeFractionStats& stats() const { return m_stats; }
 
-  /// F over dt with the faces `u` of the MAC grid (per axis; the projection's values next
-  /// to liquid cells, so those are divergence free), the planes' normals from φ. `step`
-  /// alternates the order of the sweeps (x y z, then z y x); `sources`, the cells of the
-  /// emitters that are on (what the dilation term makes there is added water).
-  void advect(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
-              double dt, std::int64_t step, const std::vector<grid::IndexBox>& sources = {});
+  /// Before the velocity extrapolation: the projection's face velocities of `mac`, and the
+  /// cells of the emitters whose held faces they carry.
+  void keep_projected_faces(const MacGrid& mac, const std::vector<grid::IndexBox>& sources);
+  /// After it: the extrapolated values of the faces between two cells that are not liquid
+  /// (`liquid(cell)`: the projection's liquid cells), so that F moves with the projection's
+  /// divergence-free faces next to the water and with the extrapolated ones in the air.
+  template <class Liquid>
+  void take_extrapolated_faces(const MacGrid& mac, Liquid&& liquid);
+  /// F over dt, the planes' normals from φ, with the faces kept since the last projection
+  /// (before the first one, `mac`'s as they stand and the emitters `on` now); what the
+  /// dilation term makes in the emitters' cells is added water. The sweeps' order
+  /// alternates step by step (x y z, then z y x).
+  void advect(const MacGrid& mac, const LevelSet& level_set, double dt,
+              const std::vector<grid::IndexBox>& on = {});
+  /// For a checkpoint: F, the faces it moves with next and their emitters, the steps, what
+  /// its lower bound raised.
+  void save(sdk::StateWriter& out) const;
+  void restore(sdk::StateReader& in);
   /// Water [m^3] raised to F = 0 since the start (what F's lower bound made).
   double clipped_total() const { return m_clipped_total; }
-  void set_clipped_total(double total) { m_clipped_total = total; }
   /// Unites the shape of signed distance `distance` [m] with the water in the MAC cells of
   /// `cells` (an emitter: F = max(F, the shape's fraction)); returns the water added [m^3].
   double fill(const std::function<double(const Eigen::Vector3d&)>& distance,
@@ -80,6 +92,8 @@ class VolumeFraction {
                                    const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 
  private:
+  void advect(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
+              double dt, const std::vector<grid::IndexBox>& sources);
   /// The three sweeps over dt (its Courant number at most ½), in the order `order` picks;
   /// sets m_stats' clipped, outflow, dilated and divergence for them.
   void sweeps(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
@@ -97,8 +111,27 @@ class VolumeFraction {
   std::vector<double> m_carried;          ///< the water each face carries this pass
   std::vector<double> m_corrected;        ///< correct()'s φ being built
   double m_clipped_total = 0.0;
+  std::array<std::vector<double>, 3> m_faces;  ///< what F moves with next (empty: none kept)
+  std::vector<grid::IndexBox> m_faces_sources;  ///< the emitters whose held faces those are
+  std::int64_t m_steps = 0;
   std::array<bool, 6> m_open{};
   VolumeFractionStats m_stats;
 };
+
+template <class Liquid>
+void VolumeFraction::take_extrapolated_faces(const MacGrid& mac, Liquid&& liquid) {
+  const Eigen::Vector3i cells = m_mac.cells();
+  for (int a = 0; a < 3; ++a) {
+    const grid::Location loc = face_location(a);
+    const auto& u = mac.face_velocity(a);
+    for (std::int64_t f = 0; f < m_mac.size(loc); ++f) {
+      Eigen::Vector3i c = m_mac.coordinates(loc, f);
+      bool wet = c[a] < cells[a] && liquid(m_mac.index(grid::Location::Cell, c));
+      c[a] -= 1;
+      wet = wet || (c[a] >= 0 && liquid(m_mac.index(grid::Location::Cell, c)));
+      if (!wet) m_faces[a][f] = u[f];
+    }
+  }
+}
 
 }  // namespace shellflow::grid_fluid
