@@ -335,9 +335,20 @@ TEST(Water, FirstOrderSurfacePressureAlsoHoldsStillWater) {
   EXPECT_LE(max_face_speed(*fluid), 1e-8);  // the bound, as above
 }
 
-TEST(Water, PoolAtRestWithAStaticTiltedPlatePiercingTheSurface) {
+/// The shell tests below hold on either of φ's layouts ("level_set"), with the same bounds.
+class WaterAmongShells : public ::testing::TestWithParam<const char*> {
+ protected:
+  nlohmann::json water(nlohmann::json initial) const {
+    return {{"level_set", GetParam()}, {"initial", std::move(initial)}};
+  }
+};
+
+INSTANTIATE_TEST_SUITE_P(Layouts, WaterAmongShells, ::testing::Values("nodes", "cells"),
+                         [](const auto& info) { return std::string(info.param); });
+
+TEST_P(WaterAmongShells, PoolAtRestWithAStaticTiltedPlatePiercingTheSurface) {
   auto fluid = test::make_fluid(
-      water_params(16, {{"initial", {{{"type", "pool"}, {"height", 0.41}}}}}, 1e-10));
+      water_params(16, water({{{"type", "pool"}, {"height", 0.41}}}), 1e-10));
   const auto plate =
       test::make_plate({0.5, 0.45, 0.52}, Eigen::Vector3d(1.0, 0.3, -0.4).normalized(), 0.6, 7);
   const std::vector<sdk::ShellSurface> shells{plate};
@@ -381,20 +392,21 @@ sdk::ShellSurface dam_plate(double x) {
   return test::make_plate({x, 0.5, 0.5}, Eigen::Vector3d::UnitX(), 1.2, 9);
 }
 
-/// Water nodes (φ <= 0) on the dry side x > plate + dx.
+/// Water samples (φ <= 0) on the dry side x > plate + dx.
 int wet_nodes_beyond(const GridFluid& f, double plate_x) {
   const auto& phi = f.liquid()->level_set().phi();
+  const grid::UniformGrid& lattice = f.liquid()->level_set().grid();
   int wet = 0;
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i)
-    if (phi[i] <= 0.0 && f.grid().position(Location::Node, i).x() > plate_x + f.grid().dx()) ++wet;
+    if (phi[i] <= 0.0 && lattice.position(Location::Node, i).x() > plate_x + f.grid().dx()) ++wet;
   return wet;
 }
 
-TEST(Water, ThinWallDamKeepsTheDrySideDry) {
+TEST_P(WaterAmongShells, ThinWallDamKeepsTheDrySideDry) {
   // 16^3 tank, water x < 0.5 up to 0.8 of the height, a plate at x = 0.5 + dx/3 (between
   // node planes), 2 s of simulated time at the CFL step.
   auto fluid = test::make_fluid(water_params(
-      16, {{"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.52, 0.8, 2}}}}}}));
+      16, water({{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.52, 0.8, 2}}}})));
   const double dx = fluid->grid().dx();
   const double plate_x = 0.5 + dx / 3.0;
   const auto plate = dam_plate(plate_x);
@@ -406,9 +418,9 @@ TEST(Water, ThinWallDamKeepsTheDrySideDry) {
   EXPECT_GT(steps, 20);
 }
 
-TEST(Water, ThinWallDamKeepsTheWetSideLevel) {
+TEST_P(WaterAmongShells, ThinWallDamKeepsTheWetSideLevel) {
   auto fluid = test::make_fluid(water_params(
-      16, {{"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.52, 0.8, 2}}}}}}));
+      16, water({{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.52, 0.8, 2}}}})));
   const double dx = fluid->grid().dx();
   const auto plate = dam_plate(0.5 + dx / 3.0);
   const std::vector<sdk::ShellSurface> shells{plate};
@@ -418,9 +430,9 @@ TEST(Water, ThinWallDamKeepsTheWetSideLevel) {
   EXPECT_NEAR(surface_height(*fluid, 0.25, 0.5), 0.8, 0.25 * dx);
 }
 
-TEST(Water, ThinWallDamMovingSlowlyKeepsTheDrySideDry) {
+TEST_P(WaterAmongShells, ThinWallDamMovingSlowlyKeepsTheDrySideDry) {
   auto fluid = test::make_fluid(water_params(
-      16, {{"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.4, 0.6, 2}}}}}}));
+      16, water({{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.4, 0.6, 2}}}})));
   const double speed = 0.05;  // m/s: the plate crosses about 1.6 cells in 0.5 s
   double x = 0.45;
   double t = 0.0;

@@ -22,6 +22,13 @@ grid::UniformGrid LevelSet::cell_centre_lattice(const grid::UniformGrid& mac) {
                            mac.cells() - Eigen::Vector3i::Ones());
 }
 
+grid::Location LevelSet::lattice_location(const grid::UniformGrid& lattice,
+                                          const grid::UniformGrid& mac) {
+  if (lattice.counts(Location::Node) == mac.counts(Location::Node)) return Location::Node;
+  if (lattice.counts(Location::Node) == mac.counts(Location::Cell)) return Location::Cell;
+  throw std::invalid_argument("LevelSet: a lattice that is neither the grid's nodes nor its cells");
+}
+
 LevelSet::LevelSet(const grid::UniformGrid& grid, double band, Layout layout)
     : m_layout(layout),
       m_mac(grid),

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "shellflow/geometry/gauss_jacobi_refill.hpp"
+#include "shellflow/grid_fluid/water/level_set.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -52,7 +53,7 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
                              std::span<double> out, double* range,
                              std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost) const {
   const std::span<const std::uint8_t> in_band =
-      band && !shells.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
+      band && !shells.empty() ? LevelSet::band_flags(*band, m_grid) : std::span<const std::uint8_t>();
   const Eigen::Vector3d lower = m_grid.origin();
   const Eigen::Vector3d upper = m_grid.upper();
   const double eps_prime = geometry::WedgeCaster::kSemiLagrangianFactor * shells.epsilon();

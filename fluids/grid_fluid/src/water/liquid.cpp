@@ -7,6 +7,7 @@
 #include <limits>
 #include <string_view>
 
+#include "shellflow/geometry/swept_point_invalidator.hpp"
 #include "shellflow/grid_fluid/mac/ordered_sum.hpp"
 #include "shellflow/grid_fluid/water/initial_water.hpp"
 #include "shellflow/sdk/error.hpp"
@@ -56,9 +57,9 @@ sdk::Schema Liquid::schema() {
                       "flow turns inward lets water in. cells: one sample per pressure cell, "
                       "traced with the faces' velocities (PhysBAM's); water that reaches a wall "
                       "stays, and an open or inflow side lets none in (where its face's "
-                      "velocity points inward the water pulls away from it). For now cells "
-                      "take walls, open and inflow sides, initial water, emitters, particles and "
-                      "prescribed velocities: no shells (docs/water-cell-centres.md)"))
+                      "velocity points inward the water pulls away from it). Shells cut cells as "
+                      "they cut the nodes' stencils (§3, §4.4); a film thinner than the gap "
+                      "from a shell to the next centre is not kept (docs/water-cell-centres.md)"))
       .field("volume_fraction",
              Schema::boolean(false).doc(
                  "cells only, experimental: carry each cell's water fraction beside φ, moved in "
@@ -66,7 +67,7 @@ sdk::Schema Liquid::schema() {
                  "(CLSVOF), so the water's volume changes only through the domain's sides; a "
                  "layer thinner than half a cell on a wall keeps its water there; emitters add "
                  "to it and open sides carry it out, counted exactly. For now without particles "
-                 "(docs/water-cell-centres.md §5)"))
+                 "or shells (docs/water-cell-centres.md §5)"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))
@@ -193,7 +194,7 @@ void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry:
   const Eigen::Vector3i n = grid.counts(Location::Node);
   const std::vector<double>& built = m_built;  // φ reads it, and is set below
   auto& phi = m_level_set.phi();
-  const auto list = band.samples(Location::Node);
+  const auto list = band.samples(LevelSet::lattice_location(grid, band.grid()));
   const std::int64_t m = static_cast<std::int64_t>(list.size());
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::int64_t s = 0; s < m; ++s) {
@@ -201,11 +202,22 @@ void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry:
     const double p = built[i];
     if (p > 0.0) continue;  // air
     const Eigen::Vector3i ijk = grid.coordinates(Location::Node, i);
-    const std::uint32_t hidden = shells.hidden_axis_neighbours(grid, ijk);
-    if (hidden == 0) continue;
     const Eigen::Vector3d x = grid.position(Location::Node, ijk);
     const auto contact = shells.nearest(x, -p + tolerance, x);
     if (!contact) continue;
+    const std::uint32_t hidden = shells.hidden_axis_neighbours(grid, ijk);
+    // The surface a neighbour it sees across the surface implies: between them, where a
+    // plane square to their axis through that neighbour's distance puts it.
+    double across = -kInfinity;
+    for (int a = 0; a < 3; ++a)
+      for (int side = 0; side < 2; ++side) {
+        if ((hidden >> (2 * a + side) & 1u) != 0) continue;
+        Eigen::Vector3i j = ijk;
+        j[a] += side == 0 ? -1 : 1;
+        if (j[a] < 0 || j[a] >= n[a]) continue;
+        const double q = built[grid.index(Location::Node, j)];
+        if (q > 0.0) across = std::max(across, q);
+      }
     if (p <= -tolerance) {
       // Its nearest shell point as far as its nearest point of the shape: the shell touches
       // the ball of water about the node where the shape's surface does.
@@ -226,37 +238,23 @@ void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry:
                 : (built[grid.index(Location::Node, hi)] - built[grid.index(Location::Node, lo)]) /
                       ((hi[a] - lo[a]) * dx);
       }
-      if (!(gradient.norm() > 0.0)) continue;
       const Eigen::Vector3d normal = gradient.normalized();
-      if ((contact->point - x).dot(normal) <= 0.0) continue;
-      if (std::abs(normal.dot(contact->normal)) < kFaceAlongShell) continue;
-    }
-    // Deep water, unless a neighbour it sees lies across the surface: the surface then lies
-    // between them, where a plane square to their axis through that neighbour's distance
-    // puts it (its own φ held where the surface is; −band would read it next to the node).
-    double across = -kInfinity;
-    for (int a = 0; a < 3; ++a)
-      for (int side = 0; side < 2; ++side) {
-        if ((hidden >> (2 * a + side) & 1u) != 0) continue;
-        Eigen::Vector3i j = ijk;
-        j[a] += side == 0 ? -1 : 1;
-        if (j[a] < 0 || j[a] >= n[a]) continue;
-        const double q = built[grid.index(Location::Node, j)];
-        if (q > 0.0) across = std::max(across, q);
+      const bool along = gradient.norm() > 0.0 && (contact->point - x).dot(normal) > 0.0 &&
+                         std::abs(normal.dot(contact->normal)) >= kFaceAlongShell;
+      // Where two faces meet by the shell (a cup's water line at its wall) the gradient
+      // mixes them: the node keeps its φ unless a surface it sees lies nearer.
+      if (!along) {
+        if (across != -kInfinity) phi[i] = std::min(p, across - dx);
+        continue;
       }
+    }
+    // Deep water, unless a neighbour it sees lies across the surface (its own φ held where
+    // the surface is; −band would read it next to the node).
     phi[i] = across == -kInfinity ? -deep : std::min(across - dx, 0.0);
   }
 }
 
-void Liquid::refuse_shells_on_cells(const ShellGeometry& shells) const {
-  if (cell_centred() && !shells.empty())
-    throw ConfigError("/water/level_set",
-                      "shells with /water/level_set = cells are not supported yet: use \"nodes\" "
-                      "(the default) for a scene with shells");
-}
-
 void Liquid::settle_among_shells(const ShellGeometry& shells, const geometry::ShellBand* band) {
-  refuse_shells_on_cells(shells);  // before anything reads the shells' band on cells
   if (m_built.empty()) return;
   // Unless φ was given since (a test's own field), which is then left as it is.
   if (!shells.empty() && bytes_hash(m_level_set.phi()) == m_marched_hash) {
@@ -332,6 +330,12 @@ void Liquid::centre_velocities(const MacGrid& mac) {
   const grid::UniformGrid& grid = mac.grid();
   const Eigen::Vector3i cells = grid.cells();
   const auto& phi = m_level_set.phi();
+  const auto unit = [](int a) { return Eigen::Vector3i::Unit(a); };
+  // Inside the domain the last projection's Neumann faces are the shells' (extrapolate()'s
+  // 2); none before the first.
+  const auto shell_face = [&](int a, const Eigen::Vector3i& f) {
+    return !m_known[a].empty() && m_known[a][grid.index(face_location(a), f)] == 2;
+  };
   for (int a = 0; a < 3; ++a) {
     const auto& u = mac.face_velocity(a);
     auto& out = m_centre_velocity.velocity(a);
@@ -344,11 +348,16 @@ void Liquid::centre_velocities(const MacGrid& mac) {
           double lower = u[grid.index(face_location(a), f)];
           f[a] += 1;
           double upper = u[grid.index(face_location(a), f)];
-          // An air cell against a wall: its φ moves with the water's velocity continued, as
-          // the air's extrapolated faces carry it elsewhere; the wall's face holds the wall's.
+          // An air cell against a wall or a shell: its φ moves with the water's velocity
+          // continued, as the air's extrapolated faces carry it elsewhere; the wall's face
+          // holds the wall's. (Averaged in, a layer landing on a shelf slowed its underside
+          // to half its speed while its top kept falling: the layer thinned.)
           if (phi[cell] > 0.0 && cells[a] > 1) {
-            if (f[a] == 1 && m_walls[2 * a]) lower = upper;
-            if (f[a] == cells[a] && m_walls[2 * a + 1]) upper = lower;
+            const Eigen::Vector3i below = f - unit(a);
+            const bool solid_below = f[a] == 1 ? m_walls[2 * a] : shell_face(a, below);
+            const bool solid_above = f[a] == cells[a] ? m_walls[2 * a + 1] : shell_face(a, f);
+            if (solid_below && !solid_above) lower = upper;
+            if (solid_above && !solid_below) upper = lower;
           }
           out[cell] = 0.5 * (lower + upper);
         }
@@ -358,7 +367,12 @@ void Liquid::centre_velocities(const MacGrid& mac) {
 void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& mac, double dt,
                     const ShellGeometry& shells, const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
-  refuse_shells_on_cells(shells);
+  // The plugin learns of shells at its first step. F crosses the faces a moving shell
+  // sweeps, one part per cell (cut cells, issue #52, will part it).
+  if (m_fraction.enabled() && !shells.empty())
+    throw ConfigError("/water/volume_fraction",
+                      "a volume fraction among shells is not supported yet: leave it out of "
+                      "a scene with solids");
   if (cell_centred()) centre_velocities(mac);
   const NodeFields& velocity = cell_centred() ? m_centre_velocity : node_velocity;
   m_stats = LiquidStats{};
@@ -488,10 +502,30 @@ void Liquid::carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFi
   }
 }
 
+std::span<const std::int64_t> Liquid::swept_cells(const ShellGeometry& shells_n,
+                                                  const ShellGeometry& shells) {
+  for (const std::int64_t i : m_swept_cells) m_swept_flags[i] = 0;
+  m_swept_cells.clear();
+  if (shells_n.empty() || shells.empty() || shells_n.shell_count() != shells.shell_count())
+    return {};
+  const grid::UniformGrid& mac = m_level_set.mac_grid();
+  m_swept_flags.resize(mac.size(Location::Cell), 0);
+  const geometry::SweptPointInvalidator invalidator(mac, shells.epsilon());
+  for (int s = 0; s < shells_n.shell_count(); ++s)
+    if (shells_n.mesh(s).same_topology(shells.mesh(s)))
+      invalidator.invalidate(Location::Cell, shells_n.mesh(s), shells.mesh(s), m_swept_flags,
+                             m_swept_cells);
+  return m_swept_cells;
+}
+
 void Liquid::refill(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
                     const ShellGeometry& shells_n, const ShellGeometry& shells) {
   const auto start = std::chrono::steady_clock::now();
-  if (!swept.empty()) carry_swept_nodes(swept, velocity, dt, shells_n, shells);
+  // On cells φ's samples are the cell centres, swept as the nodes are, moving with the
+  // centres' velocities advect() traced with.
+  if (cell_centred()) swept = swept_cells(shells_n, shells);
+  const NodeFields& u = cell_centred() ? m_centre_velocity : velocity;
+  if (!swept.empty()) carry_swept_nodes(swept, u, dt, shells_n, shells);
   for (const std::int64_t i : m_invalid) m_valid[i] = 0;
   m_stats.invalid_nodes = static_cast<std::int64_t>(m_invalid.size());
   m_advector.refill(m_level_set.phi(), m_valid, m_invalid, shells);
@@ -532,7 +566,7 @@ void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& sh
 
 const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::ShellBand* band) {
   m_level_set.cell_values(m_cell_phi, m_walls);
-  if (band != nullptr && !shells.empty()) {
+  if (band != nullptr && !shells.empty() && !cell_centred()) {
     // A shell-cut cell: only the corners its centre sees say whether it is water. Corners
     // across the shell hold the other side's φ (air beneath a cup's bottom), and averaged
     // in they made the first cell of water on a shell air, p = 0: a drain (§4.3). Pairs of
@@ -589,10 +623,19 @@ double Liquid::volume(const ShellGeometry* shells, const geometry::ShellBand* ba
   const grid::UniformGrid& grid = m_level_set.grid();
   const auto& phi = m_level_set.phi();
   const double dx = grid.dx();
-  const auto list = band->samples(Location::Cell);
+  // φ's lattice cells near the shells: the band's cells, or on cells the lattice cells
+  // whose centres are the band's inner nodes (the half-cell strips at the domain's faces
+  // hold no shell correction).
+  const Location band_location = cell_centred() ? Location::Node : Location::Cell;
+  const auto list = band->samples(band_location);
+  const grid::UniformGrid& mac = m_level_set.mac_grid();
   const std::int64_t m = static_cast<std::int64_t>(list.size());
   const double correction = ordered_sum(m, [&](std::int64_t s) -> double {
-    const Eigen::Vector3i c = grid.coordinates(Location::Cell, list[s]);
+    Eigen::Vector3i c = mac.coordinates(band_location, list[s]);
+    if (cell_centred()) {
+      c -= Eigen::Vector3i::Ones();
+      if ((c.array() < 0).any() || (c.array() >= grid.cells().array()).any()) return 0.0;
+    }
     const Eigen::Vector3d centre = grid.position(Location::Cell, c);
     const NodeStencil st{c, Eigen::Vector3d::Constant(0.5)};
     std::array<double, 8> own, seen, across, side;

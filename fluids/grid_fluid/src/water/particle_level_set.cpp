@@ -360,7 +360,7 @@ void ParticleLevelSet::gather(int sign, const NodeFields& velocity, const ShellG
   const std::int64_t n = static_cast<std::int64_t>(chosen.size());
   out.resize(n);
   const std::span<const std::uint8_t> in_band =
-      band && !shells.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
+      band && !shells.empty() ? LevelSet::band_flags(*band, m_grid) : std::span<const std::uint8_t>();
 #pragma omp parallel for schedule(static)
   for (std::int64_t s = 0; s < n; ++s) {
     const Eigen::Vector3d x = position(chosen[s]);
@@ -386,7 +386,7 @@ void ParticleLevelSet::advect(const NodeFields& velocity, double dt, const Shell
   m_z0 = m_z;
   for (auto* v : {&m_u, &m_v, &m_w}) v->resize(count);
   const std::span<const std::uint8_t> in_band =
-      band && !shells_n.empty() ? band->flags(Location::Node) : std::span<const std::uint8_t>();
+      band && !shells_n.empty() ? LevelSet::band_flags(*band, m_grid) : std::span<const std::uint8_t>();
   const Eigen::Vector3d lower = m_domain.origin(), upper = m_domain.upper();
   std::vector<std::uint8_t> keep(count, 1);
   std::int64_t deleted = 0;
@@ -526,7 +526,7 @@ void ParticleLevelSet::collide(const LevelSet& phi, const ShellGeometry& shells_
     for (int s = 0; s < shells_np1.shell_count(); ++s)
       swept.emplace_back(shells_n.mesh(s), shells_np1.mesh(s));
   const std::span<const std::uint8_t> in_band =
-      band ? band->flags(Location::Node) : std::span<const std::uint8_t>();
+      band ? LevelSet::band_flags(*band, m_grid) : std::span<const std::uint8_t>();
   const std::int64_t count = size();
   std::vector<std::uint8_t> keep(count, 1);
   std::int64_t deleted = 0, kept_off = 0;

@@ -11,7 +11,11 @@
 // centres φ continues constant (a wall's ghost cell holds its first cell's φ).
 
 #include <array>
+#include <cstdint>
+#include <span>
 #include <vector>
+
+#include "shellflow/geometry/shell_band.hpp"
 
 #include "shellflow/grid/uniform_grid.hpp"
 
@@ -33,6 +37,16 @@ class LevelSet {
   const grid::UniformGrid& mac_grid() const { return m_mac; }
   /// The lattice whose nodes are the centres of `mac`'s cells.
   static grid::UniformGrid cell_centre_lattice(const grid::UniformGrid& mac);
+  /// Where `lattice`'s nodes lie on `mac`: its nodes (the lattice is `mac`) or its cells
+  /// (cell_centre_lattice(mac)), the same flat indices either way; how a ShellBand or a
+  /// swept-point list on `mac` reads φ's samples. std::invalid_argument for another lattice.
+  static grid::Location lattice_location(const grid::UniformGrid& lattice,
+                                         const grid::UniformGrid& mac);
+  /// `band`'s flags for `lattice`'s nodes, one byte per φ sample.
+  static std::span<const std::uint8_t> band_flags(const geometry::ShellBand& band,
+                                                  const grid::UniformGrid& lattice) {
+    return band.flags(lattice_location(lattice, band.grid()));
+  }
   double band() const { return m_band; }
   std::vector<double>& phi() { return m_phi; }
   const std::vector<double>& phi() const { return m_phi; }

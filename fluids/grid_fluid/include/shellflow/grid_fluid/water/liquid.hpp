@@ -119,7 +119,8 @@ class Liquid {
   void add_sources(double t, DomainBoundary& boundary);
   /// `swept`: the nodes the shells swept n → n+1 (SweptRefill::swept_nodes); may be empty.
   /// `velocity`: the node velocities after the advection, swept nodes refilled; `shells_n`,
-  /// `shells`: the shells at the start and the end of the step.
+  /// `shells`: the shells at the start and the end of the step. On cells neither `swept`
+  /// nor `velocity` is read: the swept cell centres and their velocities from advect().
   void refill(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
               const ShellGeometry& shells_n, const ShellGeometry& shells);
   /// `shells_n`, `shells`: the shells at the start and the end of the step; `t_end`: the
@@ -154,12 +155,13 @@ class Liquid {
   void carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
                          const ShellGeometry& shells_n, const ShellGeometry& shells);
 
+  /// On cells: the cell centres the shells swept n → n+1 (§3), as a list.
+  std::span<const std::int64_t> swept_cells(const ShellGeometry& shells_n,
+                                            const ShellGeometry& shells);
   /// advect()'s part for the water fraction: F over dt, its flows into the budget.
   void advect_fraction(double t, const MacGrid& mac, double dt);
   /// The MAC cells emitter `s`'s shape may reach.
   grid::IndexBox emitter_cells(const WaterSource& s) const;
-  /// Shells on cells are not taken yet (step C5): a ConfigError naming the option.
-  void refuse_shells_on_cells(const ShellGeometry& shells) const;
   /// advect() on cells: the velocity at each cell centre, the mean of its two faces per axis
   /// (PhysBAM's Face_To_Cell_Vector), in `m_centre_velocity` on the centres' lattice.
   void centre_velocities(const MacGrid& mac);
@@ -170,6 +172,8 @@ class Liquid {
   std::vector<grid::IndexBox> m_held_sources;  ///< cells of the emitters on this step
   std::vector<double> m_scratch;      ///< φ* being advected; after advect(), φ^n
   std::vector<double> m_swept_value;  ///< refill(): their φ^n carried with the shell
+  std::vector<std::uint8_t> m_swept_flags;  ///< on cells: the cells swept this step
+  std::vector<std::int64_t> m_swept_cells;  ///< those, as a list
   std::vector<double> m_built;    ///< φ as the scene built it, until the first step
   size_t m_marched_hash = 0;      ///< of φ as marched at construction
   LevelSetAdvector m_advector;
