@@ -23,7 +23,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TEST = "tests/plugins/grid_fluid/test_water_validation_test"
-FILTER = "WaterValidation.DamBreakFrontSpeedFollowsMartinAndMoyce"
+FILTER = "Layouts/WaterValidation.DamBreakFrontSpeedFollowsMartinAndMoyce/nodes"
 
 
 def read_rows(path):
