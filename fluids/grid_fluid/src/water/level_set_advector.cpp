@@ -34,12 +34,17 @@ void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velo
   m_range.resize(2 * count);
   m_back.resize(count);
   const std::size_t first_invalid = invalid.size();
-  trace(in, velocity, dt, shells, band, out, m_range.data(), invalid, ghost);
+  m_clamped.clear();
+  trace(in, velocity, dt, shells, band, out, m_range.data(), invalid, ghost, &m_clamped);
   m_back_invalid.clear();
-  trace(out, velocity, -dt, shells, band, m_back, nullptr, m_back_invalid, ghost);
-  // No correction where either trace saw no visible node.
+  trace(out, velocity, -dt, shells, band, m_back, nullptr, m_back_invalid, ghost, &m_clamped);
+  // No correction where either trace saw no visible node, or left the lattice: a ray
+  // clamped at a wall makes no round trip, and half its change "corrected" lost the water
+  // piling against the wall (on cells, whose first centres move with the water's normal
+  // velocity).
   for (std::size_t k = first_invalid; k < invalid.size(); ++k) m_range[2 * invalid[k]] = kNan;
   for (const std::int64_t node : m_back_invalid) m_range[2 * node] = kNan;
+  for (const std::int64_t node : m_clamped) m_range[2 * node] = kNan;
 #pragma omp parallel for schedule(static)
   for (std::int64_t node = 0; node < count; ++node) {
     const double lo = m_range[2 * node], hi = m_range[2 * node + 1];
@@ -51,7 +56,8 @@ void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velo
 void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& velocity, double dt,
                              const ShellGeometry& shells, const geometry::ShellBand* band,
                              std::span<double> out, double* range,
-                             std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost) const {
+                             std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost,
+                             std::vector<std::int64_t>* clamped) const {
   const std::span<const std::uint8_t> in_band =
       band && !shells.empty() ? LevelSet::band_flags(*band, m_grid) : std::span<const std::uint8_t>();
   const Eigen::Vector3d lower = m_grid.origin();
@@ -61,6 +67,7 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
   const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
   const std::int64_t sy = nodes.x(), sz = std::int64_t(nodes.x()) * nodes.y();
   std::vector<std::vector<std::int64_t>> per_thread(omp_get_max_threads());
+  std::vector<std::vector<std::int64_t>> clamped_per_thread(clamped ? omp_get_max_threads() : 0);
   // Row by row, the corners by offsets (no index arithmetic per corner).
 #pragma omp parallel
   {
@@ -93,6 +100,8 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
             if (node_range) node_range[0] = lo, node_range[1] = hi;
             continue;
           }
+          if (clamped != nullptr && departure != back)
+            clamped_per_thread[omp_get_thread_num()].push_back(node);
           if (!banded) {
             const NodeStencil st = node_stencil(m_grid, departure);
             const std::int64_t first = st.base.x() + sy * st.base.y() + sz * st.base.z();
@@ -133,6 +142,7 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
         }
   }
   for (const auto& list : per_thread) invalid.insert(invalid.end(), list.begin(), list.end());
+  for (const auto& list : clamped_per_thread) clamped->insert(clamped->end(), list.begin(), list.end());
 }
 
 Eigen::Vector3d LevelSetAdvector::midpoint_velocity(

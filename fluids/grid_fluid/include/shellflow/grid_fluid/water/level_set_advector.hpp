@@ -92,10 +92,12 @@ class LevelSetAdvector {
 
  private:
   /// One semi-Lagrangian pass over dt (negative: forwards along the velocity); `range`,
-  /// when given, receives each node's stencil bounds (2 per node).
+  /// when given, receives each node's stencil bounds (2 per node), and `clamped` the nodes
+  /// whose ray left the lattice and was clamped to it (no round trip there to correct by).
   void trace(std::span<const double> in, const NodeFields& velocity, double dt,
              const ShellGeometry& shells, const geometry::ShellBand* band, std::span<double> out,
-             double* range, std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost) const;
+             double* range, std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost,
+             std::vector<std::int64_t>* clamped = nullptr) const;
   /// The shell point an air node x (φ = p > 0) is within Δx of, unless it lies on an open
   /// edge (past which water runs on): the shell off_shells measures u against.
   std::optional<ShellContact> air_contact(const Eigen::Vector3d& x, double p,
@@ -144,6 +146,7 @@ class LevelSetAdvector {
   std::vector<double> m_range;  ///< per node: the forward stencil's least, greatest value
   std::vector<double> m_back;   ///< the forward result traced back
   std::vector<std::int64_t> m_back_invalid;  ///< nodes the backward trace could not sample
+  std::vector<std::int64_t> m_clamped;       ///< nodes either trace clamped to the lattice
 };
 
 }  // namespace shellflow::grid_fluid
