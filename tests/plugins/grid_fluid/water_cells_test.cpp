@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 #include <random>
 #include <stdexcept>
 
@@ -535,6 +536,24 @@ TEST(VolumeFraction, IsRefusedAmongShellsAtTheFirstStepNamingThePath) {
   } catch (const ConfigError& e) {
     EXPECT_EQ(e.json_path(), "/water/volume_fraction");
   }
+}
+
+TEST(WaterOnCells, ThePlanSaysWhereThePhiLivesAndWhetherAFractionIsCarried) {
+  // run.json's plan: what a step of the scene computes (cost follows need).
+  const auto enabled = [](const GridFluid& f, const std::string& module) {
+    for (const sdk::PlanEntry& e : f.plan())
+      if (e.module == module) return std::optional<bool>(e.enabled);
+    return std::optional<bool>();
+  };
+  auto params = cell_water(8, {{{"type", "pool"}, {"height", 0.3}}});
+  const auto plain = test::make_fluid(params);
+  EXPECT_EQ(enabled(*plain, "cell_centred_level_set"), std::optional<bool>(true));
+  EXPECT_EQ(enabled(*plain, "volume_fraction"), std::optional<bool>(false));
+  params["water"]["volume_fraction"] = true;
+  EXPECT_EQ(enabled(*test::make_fluid(params), "volume_fraction"), std::optional<bool>(true));
+  params["water"] = {{"initial", {{{"type", "pool"}, {"height", 0.3}}}}};
+  EXPECT_EQ(enabled(*test::make_fluid(params), "cell_centred_level_set"),
+            std::optional<bool>(false));
 }
 
 TEST(WaterOnCells, ADomainOneCellThinIsRefusedNamingThePath) {
