@@ -48,7 +48,7 @@ void PressureProjection::mark_neumann(MacGrid& mac, const DomainBoundary& bounda
 #pragma omp parallel for schedule(static)
     for (std::int64_t s = 0; s < closed; ++s) {
       const auto& [f, hit] = hits[s];
-      flags[f] = 1;
+      flags[f] = 2;
       u[f] = shells.velocity_at(hit)[a];  // §4.3: the (effective) object velocity
     }
     stats.shell_neumann_faces += closed;

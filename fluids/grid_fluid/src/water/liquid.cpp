@@ -331,10 +331,9 @@ void Liquid::centre_velocities(const MacGrid& mac) {
   const Eigen::Vector3i cells = grid.cells();
   const auto& phi = m_level_set.phi();
   const auto unit = [](int a) { return Eigen::Vector3i::Unit(a); };
-  // Inside the domain the last projection's Neumann faces are the shells' (extrapolate()'s
-  // 2); none before the first.
+  // The faces the last projection's shells closed (extrapolate()'s 3); none before the first.
   const auto shell_face = [&](int a, const Eigen::Vector3i& f) {
-    return !m_known[a].empty() && m_known[a][grid.index(face_location(a), f)] == 2;
+    return !m_known[a].empty() && m_known[a][grid.index(face_location(a), f)] == 3;
   };
   for (int a = 0; a < 3; ++a) {
     const auto& u = mac.face_velocity(a);
@@ -367,8 +366,8 @@ void Liquid::centre_velocities(const MacGrid& mac) {
 void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& mac, double dt,
                     const ShellGeometry& shells, const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
-  // The plugin learns of shells at its first step. F crosses the faces a moving shell
-  // sweeps, one part per cell (cut cells, issue #52, will part it).
+  // The plugin learns of shells at its first step. A cell a shell cuts holds one F for
+  // both its sides, and φ's plane set to it stands on the wrong side (cut cells, #52).
   if (m_fraction.enabled() && !shells.empty())
     throw ConfigError("/water/volume_fraction",
                       "a volume fraction among shells is not supported yet: leave it out of "
@@ -735,7 +734,8 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
             c[a] -= 1;
             if (!set && c[a] >= 0) set = projection.fluid_cell(grid.index(Location::Cell, c));
           }
-          known[f] = neumann[f] != 0 ? 2 : set ? 1 : 0;  // 2: a shell's or wall's face
+          // 2: a wall's, inflow side's or emitter's face, 3: a shell's.
+          known[f] = neumann[f] == 2 ? 3 : neumann[f] != 0 ? 2 : set ? 1 : 0;
         }
   }
   if (m_fraction.enabled()) m_fraction.keep_projected_faces(mac, m_held_sources);

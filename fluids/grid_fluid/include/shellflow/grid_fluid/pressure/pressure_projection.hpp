@@ -126,7 +126,8 @@ class PressureProjection {
   /// Per cell: 1 where the last projection had a pressure unknown (liquid or smoke).
   bool fluid_cell(std::int64_t cell) const { return m_regions.region[cell] >= 0; }
 
-  /// Neumann flags of the last projection for face family `axis`.
+  /// Neumann flags of the last projection for face family `axis`: 1 a wall's, an inflow
+  /// side's or an emitter's face, 2 a face a shell closes (Fig. 5), 0 none.
   const std::vector<std::uint8_t>& neumann(int axis) const { return m_neumann[axis]; }
   /// Region id of each cell in the last projection.
   const std::vector<int>& region() const { return m_regions.region; }

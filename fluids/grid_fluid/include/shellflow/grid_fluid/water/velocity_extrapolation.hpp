@@ -41,7 +41,8 @@ class VelocityExtrapolation {
       : m_grid(grid), m_linear(linear) {}
 
   /// `known[a]` flags (1 byte per face of family a) the faces whose velocity is set: 1 by
-  /// the projection, 2 a Neumann face (a shell's or wall's velocity, no slope to continue);
+  /// the projection, 2 or 3 a Neumann face (a wall's or a shell's velocity, no slope to
+  /// continue);
   /// every other face within `width` [m] of the surface is extrapolated, the rest zeroed.
   ExtrapolationStats extrapolate(MacGrid& mac,
                                  const std::array<std::vector<std::uint8_t>, 3>& known,
