@@ -164,6 +164,14 @@ class TranslatingShell final : public sdk::SolidSolver {
   double m_offset = 0.0;
 };
 
+/// The water block `water` on one of the water cores the tests compare: "nodes" or "cells"
+/// (/water/level_set), or "fraction" (cells with /water/volume_fraction).
+inline nlohmann::json water_core(const std::string& core, nlohmann::json water) {
+  water["level_set"] = core == "fraction" ? "cells" : core;
+  if (core == "fraction") water["volume_fraction"] = true;
+  return water;
+}
+
 /// Height of a water scene's surface on the vertical node line through (x, z): where φ
 /// first crosses 0 going up, by linear interpolation between the nodes; −1 if it never does.
 inline double surface_height(const GridFluid& f, double x, double z) {

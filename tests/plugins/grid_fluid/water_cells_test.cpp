@@ -522,22 +522,6 @@ TEST(VolumeFraction, IsRefusedWithoutCellsOrWithParticles) {
   EXPECT_NE(particles.find("/fluid/water/volume_fraction"), std::string::npos) << particles;
 }
 
-TEST(VolumeFraction, IsRefusedAmongShellsAtTheFirstStepNamingThePath) {
-  // The plugin learns of shells at its first step; F would cross the faces a moving shell
-  // sweeps: refused then, naming the option.
-  auto params = cell_water(8, {{{"type", "pool"}, {"height", 0.3}}});
-  params["water"]["volume_fraction"] = true;
-  auto fluid = test::make_fluid(params);
-  const std::vector<sdk::ShellSurface> shells{
-      test::make_plate(Eigen::Vector3d(0.5, 0.5, 0.5), Eigen::Vector3d::UnitX(), 0.8, 5)};
-  try {
-    fluid->advect(0.0, 0.01, shells, shells);
-    ADD_FAILURE() << "a volume fraction among shells was accepted";
-  } catch (const ConfigError& e) {
-    EXPECT_EQ(e.json_path(), "/water/volume_fraction");
-  }
-}
-
 TEST(WaterOnCells, ThePlanSaysWhereThePhiLivesAndWhetherAFractionIsCarried) {
   // run.json's plan: what a step of the scene computes (cost follows need).
   const auto enabled = [](const GridFluid& f, const std::string& module) {

@@ -164,16 +164,16 @@ nlohmann::json stream_into_the_cup() {
              {"end", 0.3}}}}};
 }
 
-/// The still cup's tests hold on either of φ's layouts ("level_set"), with the same bounds.
+/// The still cup's tests hold on either of φ's layouts ("level_set"), and on cells with a
+/// volume fraction ("fraction"), with the same bounds.
 class StillCup : public ::testing::TestWithParam<const char*> {
  protected:
   nlohmann::json params(nlohmann::json water) const {
-    water["level_set"] = GetParam();
-    return cup_params(std::move(water));
+    return cup_params(test::water_core(GetParam(), std::move(water)));
   }
 };
 
-INSTANTIATE_TEST_SUITE_P(Layouts, StillCup, ::testing::Values("nodes", "cells"),
+INSTANTIATE_TEST_SUITE_P(Layouts, StillCup, ::testing::Values("nodes", "cells", "fraction"),
                          [](const auto& info) { return std::string(info.param); });
 
 TEST_P(StillCup, StreamFillingTheStillCupNeverRunsOutsideIt) {

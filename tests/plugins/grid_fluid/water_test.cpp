@@ -335,15 +335,16 @@ TEST(Water, FirstOrderSurfacePressureAlsoHoldsStillWater) {
   EXPECT_LE(max_face_speed(*fluid), 1e-8);  // the bound, as above
 }
 
-/// The shell tests below hold on either of φ's layouts ("level_set"), with the same bounds.
+/// The shell tests below hold on either of φ's layouts ("level_set"), and on cells with a
+/// volume fraction ("fraction"), with the same bounds.
 class WaterAmongShells : public ::testing::TestWithParam<const char*> {
  protected:
   nlohmann::json water(nlohmann::json initial) const {
-    return {{"level_set", GetParam()}, {"initial", std::move(initial)}};
+    return test::water_core(GetParam(), {{"initial", std::move(initial)}});
   }
 };
 
-INSTANTIATE_TEST_SUITE_P(Layouts, WaterAmongShells, ::testing::Values("nodes", "cells"),
+INSTANTIATE_TEST_SUITE_P(Layouts, WaterAmongShells, ::testing::Values("nodes", "cells", "fraction"),
                          [](const auto& info) { return std::string(info.param); });
 
 TEST_P(WaterAmongShells, PoolAtRestWithAStaticTiltedPlatePiercingTheSurface) {

@@ -66,8 +66,10 @@ sdk::Schema Liquid::schema() {
                  "conservative form (Weymouth and Yue 2010) and φ moved to it every step "
                  "(CLSVOF), so the water's volume changes only through the domain's sides; a "
                  "layer thinner than half a cell on a wall keeps its water there; emitters add "
-                 "to it and open sides carry it out, counted exactly. For now without particles "
-                 "or shells (docs/water-cell-centres.md §5)"))
+                 "to it and open sides carry it out, counted exactly. Among shells F crosses a "
+                 "face a shell cuts through its open share, and φ is left to the level set in "
+                 "the cells a shell cuts. For now without particles (docs/water-cell-centres.md "
+                 "§5)"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))
@@ -262,6 +264,7 @@ void Liquid::settle_among_shells(const ShellGeometry& shells, const geometry::Sh
     if (band != nullptr) forget_faces_on_shells(shells, *band);
     m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
     m_particles.seed(m_level_set, shells);  // about that φ, and kept off the shells
+    if (m_fraction.enabled()) m_fraction.fit(m_level_set);  // and F from it
   }
   std::vector<double>().swap(m_built);
 }
@@ -366,12 +369,6 @@ void Liquid::centre_velocities(const MacGrid& mac) {
 void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& mac, double dt,
                     const ShellGeometry& shells, const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
-  // The plugin learns of shells at its first step. A cell a shell cuts holds one F for
-  // both its sides, and φ's plane set to it stands on the wrong side (cut cells, #52).
-  if (m_fraction.enabled() && !shells.empty())
-    throw ConfigError("/water/volume_fraction",
-                      "a volume fraction among shells is not supported yet: leave it out of "
-                      "a scene with solids");
   if (cell_centred()) centre_velocities(mac);
   const NodeFields& velocity = cell_centred() ? m_centre_velocity : node_velocity;
   m_stats = LiquidStats{};
@@ -533,6 +530,26 @@ void Liquid::refill(std::span<const std::int64_t> swept, const NodeFields& veloc
   if (m_by_phase) end_phase(m_phase_drift.shells, &shells);
 }
 
+void Liquid::mark_cut_cells(const ShellGeometry& shells, const geometry::ShellBand* band) {
+  for (const std::int64_t c : m_cut_list) m_cut_cells[c] = 0;
+  m_cut_list.clear();
+  if (band == nullptr || shells.empty()) return;
+  const grid::UniformGrid& mac = m_level_set.mac_grid();
+  m_cut_cells.resize(mac.size(Location::Cell), 0);
+  const Eigen::Vector3i cells = mac.cells();
+  const auto& hits = shells.cell_face_hits(*band);
+  for (int a = 0; a < 3; ++a)
+    for (const auto& hit : hits[a]) {
+      Eigen::Vector3i c = mac.coordinates(face_location(a), hit.face);
+      for (int side = 0; side < 2; ++side, c[a] -= 1) {
+        if (c[a] < 0 || c[a] >= cells[a]) continue;
+        const std::int64_t cell = mac.index(Location::Cell, c);
+        if (m_cut_cells[cell] == 0) m_cut_list.push_back(cell);
+        m_cut_cells[cell] = 1;
+      }
+    }
+}
+
 void Liquid::end_phase(double& phase, const ShellGeometry* shells) {
   const double now = volume(shells, m_phase_band);
   phase += now - m_phase_end;
@@ -544,12 +561,15 @@ void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& sh
   // Enright et al. 2002: the particles correct φ before and after reinitialisation.
   m_particles.collide(m_level_set, shells_n, shells, band);
   m_particles.correct(m_level_set, shells);
-  if (m_fraction.enabled()) m_fraction.correct(m_level_set);
+  if (m_fraction.enabled()) {
+    mark_cut_cells(shells, band);
+    m_fraction.correct(m_level_set, false, m_cut_cells);
+  }
   const auto start = std::chrono::steady_clock::now();
   m_stats.reinitialization =
       m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
   m_stats.t_reinitialize = seconds_since(start);
-  if (m_fraction.enabled()) m_fraction.correct(m_level_set, /*signs_only=*/true);
+  if (m_fraction.enabled()) m_fraction.correct(m_level_set, /*signs_only=*/true, m_cut_cells);
   m_particles.correct(m_level_set, shells);
   m_particles.adjust(m_level_set, shells);
   for (const grid::IndexBox& box : m_emitting) m_particles.top_up(m_level_set, shells, box);
@@ -741,9 +761,17 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
   if (m_fraction.enabled()) m_fraction.keep_projected_faces(mac, m_held_sources);
   m_stats.extrapolation =
       m_extrapolation.extrapolate(mac, m_known, m_level_set, m_extrapolation_width, shells, band);
-  if (m_fraction.enabled())
+  if (m_fraction.enabled()) {
     m_fraction.take_extrapolated_faces(
         mac, [&](std::int64_t cell) { return projection.fluid_cell(cell); });
+    if (band != nullptr && !shells.empty()) {
+      const auto& apertures = shells.face_apertures(*band);
+      for (int a = 0; a < 3; ++a)
+        for (const FaceAperture& open : apertures[a])
+          if (projection.neumann(a)[open.face] == 0)
+            m_fraction.cut_face(a, open.face, open.fraction, shells.velocity_at(open.hit)[a]);
+    }
+  }
   m_stats.t_extrapolate = seconds_since(start);
 }
 

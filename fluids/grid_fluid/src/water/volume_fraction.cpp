@@ -27,7 +27,9 @@ double VolumeFraction::box_fraction_below(const Eigen::Vector3d& normal, double 
   // Scardovelli and Zaleski 2000 (J. Comput. Phys. 164): with the box moved to [0, c] and
   // each axis turned so that m_i = |n_i| >= 0, the region Σ m_i z_i <= α is a corner
   // simplex less the parts beyond each face, by inclusion and exclusion. An axis the plane
-  // runs along (m_i ≈ 0) drops out: its extent times the lower-dimensional measure.
+  // runs along (m_i ≈ 0) drops out: its extent times the lower-dimensional measure. Below
+  // 1e-5 of the largest the sums cancel (two axes at 1e-7 read a cell 0.64 full as empty),
+  // while the tilt moves the fraction by less than that.
   const Eigen::Vector3d c = hi - lo;
   double alpha = d - normal.dot(lo);
   std::array<double, 3> m{}, extent{};
@@ -36,7 +38,7 @@ double VolumeFraction::box_fraction_below(const Eigen::Vector3d& normal, double 
   const double largest = normal.cwiseAbs().maxCoeff();
   for (int a = 0; a < 3; ++a) {
     if (normal[a] < 0.0) alpha -= normal[a] * c[a];
-    if (std::abs(normal[a]) <= 1e-9 * largest) {
+    if (std::abs(normal[a]) <= 1e-5 * largest) {
       across *= c[a];
       continue;
     }
@@ -373,7 +375,26 @@ void VolumeFraction::sweeps(const std::array<const std::vector<double>*, 3>& u,
   m_stats.divergence = divergence * cell;
 }
 
-void VolumeFraction::correct(LevelSet& level_set, bool signs_only) {
+void VolumeFraction::fit(const LevelSet& level_set) {
+  const auto& phi = level_set.phi();
+  const double dx = m_mac.dx();
+  const Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5), hi = Eigen::Vector3d::Constant(0.5);
+  m_corrected.resize(m_fraction.size());
+  const std::int64_t count = m_mac.size(Location::Cell);
+#pragma omp parallel for schedule(static)
+  for (std::int64_t c = 0; c < count; ++c) {
+    if (std::abs(phi[c]) >= std::sqrt(3.0) * dx) {  // no plane through the centre cuts it
+      m_corrected[c] = phi[c] > 0.0 ? 0.0 : 1.0;
+      continue;
+    }
+    const Eigen::Vector3d normal = normal_at(level_set, m_mac.coordinates(Location::Cell, c));
+    m_corrected[c] = box_fraction_below(normal, -phi[c] / dx, lo, hi);
+  }
+  m_fraction.swap(m_corrected);
+}
+
+void VolumeFraction::correct(LevelSet& level_set, bool signs_only,
+                             std::span<const std::uint8_t> left) {
   auto& phi = level_set.phi();
   const double dx = m_mac.dx();
   const std::int64_t count = m_mac.size(Location::Cell);
@@ -382,6 +403,7 @@ void VolumeFraction::correct(LevelSet& level_set, bool signs_only) {
   std::int64_t moved = 0, mixed = 0;
 #pragma omp parallel for schedule(static) reduction(+ : moved, mixed)
   for (std::int64_t c = 0; c < count; ++c) {
+    if (!left.empty() && left[c] != 0) continue;
     const double fraction = m_fraction[c];
     if (fraction <= kFullOrEmpty) {
       if (phi[c] <= 0.0) corrected[c] = 0.5 * dx, ++moved;  // F holds none: air

@@ -158,6 +158,9 @@ class Liquid {
   /// On cells: the cell centres the shells swept n → n+1 (§3), as a list.
   std::span<const std::int64_t> swept_cells(const ShellGeometry& shells_n,
                                             const ShellGeometry& shells);
+  /// The cells a face the shells close bounds (their two sides share one F), in
+  /// m_cut_cells: F leaves φ as it is there.
+  void mark_cut_cells(const ShellGeometry& shells, const geometry::ShellBand* band);
   /// advect()'s part for the water fraction: F over dt, its flows into the budget.
   void advect_fraction(double t, const MacGrid& mac, double dt);
   /// The MAC cells emitter `s`'s shape may reach.
@@ -174,6 +177,8 @@ class Liquid {
   std::vector<double> m_swept_value;  ///< refill(): their φ^n carried with the shell
   std::vector<std::uint8_t> m_swept_flags;  ///< on cells: the cells swept this step
   std::vector<std::int64_t> m_swept_cells;  ///< those, as a list
+  std::vector<std::uint8_t> m_cut_cells;    ///< mark_cut_cells()'
+  std::vector<std::int64_t> m_cut_list;     ///< those, as a list
   std::vector<double> m_built;    ///< φ as the scene built it, until the first step
   size_t m_marched_hash = 0;      ///< of φ as marched at construction
   LevelSetAdvector m_advector;

@@ -12,6 +12,7 @@
 // docs/water-cell-centres.md §5 says why.
 
 #include <array>
+#include <span>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -61,6 +62,12 @@ class VolumeFraction {
   /// divergence-free faces next to the water and with the extrapolated ones in the air.
   template <class Liquid>
   void take_extrapolated_faces(const MacGrid& mac, Liquid&& liquid);
+  /// A face a shell cuts passes F through its open share `fraction`, the rest moving with
+  /// the shell (`shell_velocity`): the flux the projection's faces balance (FaceApertures).
+  void cut_face(int axis, std::int64_t face, double fraction, double shell_velocity) {
+    double& u = m_faces[axis][face];
+    u = fraction * u + (1.0 - fraction) * shell_velocity;
+  }
   /// F over dt, the planes' normals from φ, with the faces kept since the last projection
   /// (before the first one, `mac`'s as they stand and the emitters `on` now); what the
   /// dilation term makes in the emitters' cells is added water. The sweeps' order
@@ -81,7 +88,11 @@ class VolumeFraction {
   /// (normal from φ); a cell F holds no water in made air, one it fills made water. With
   /// `signs_only`, only the cells whose side disagrees with F's (F ≥ ½ is water): after
   /// the reinitialisation, so that the next step's liquid cells are F's.
-  void correct(LevelSet& level_set, bool signs_only = false);
+  /// F set to the planes correct() would put φ on (its inverse): the share of each cell
+  /// below the plane through φ at its centre, normal to φ's gradient.
+  void fit(const LevelSet& level_set);
+  void correct(LevelSet& level_set, bool signs_only = false,
+               std::span<const std::uint8_t> left = {});
 
   /// The height d of the plane n·x = d (x from the centre of a unit cube, n a unit normal)
   /// below which the cube holds `fraction` of its volume.
