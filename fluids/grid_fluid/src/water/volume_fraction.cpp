@@ -246,8 +246,12 @@ void VolumeFraction::advect(const std::array<const std::vector<double>*, 3>& u,
   // cells, whose held faces push water out.
   const auto& phi = level_set.phi();
   const std::int64_t count = m_mac.size(Location::Cell);
+  // In the liquid cells a shell cuts, where φ is left to the level set, F itself: φ may
+  // read a film liquid there that F holds a tenth of, and a whole cell's dilation overdrew
+  // it (any weight constant over the step adds up to nothing on divergence-free faces).
   m_dilating.resize(count);
-  for (std::int64_t c = 0; c < count; ++c) m_dilating[c] = phi[c] <= 0.0 ? 1 : 0;
+  for (std::int64_t c = 0; c < count; ++c)
+    m_dilating[c] = phi[c] > 0.0 ? 0.0 : !m_left.empty() && m_left[c] != 0 ? m_fraction[c] : 1.0;
   m_in_source.assign(count, 0);
   for (const grid::IndexBox& box : sources)
     for (int k = box.lo.z(); k <= box.hi.z(); ++k)
@@ -348,8 +352,8 @@ void VolumeFraction::sweeps(const std::array<const std::vector<double>*, 3>& u,
           upper[a] += 1;
           const std::int64_t f_lo = m_mac.index(loc, ijk), f_hi = m_mac.index(loc, upper);
           double value = m_fraction[c] + m_carried[f_lo] - m_carried[f_hi];
-          if (m_dilating[c] != 0) {
-            const double dilation = (w[f_hi] - w[f_lo]) * dt / dx;
+          if (m_dilating[c] != 0.0) {
+            const double dilation = m_dilating[c] * (w[f_hi] - w[f_lo]) * dt / dx;
             value += dilation;
             (m_in_source[c] != 0 ? row_dil : row_div) += dilation;
           }
@@ -398,6 +402,7 @@ void VolumeFraction::correct(LevelSet& level_set, bool signs_only,
   auto& phi = level_set.phi();
   const double dx = m_mac.dx();
   const std::int64_t count = m_mac.size(Location::Cell);
+  if (!signs_only) m_left.assign(left.begin(), left.end());
   m_corrected = phi;
   std::vector<double>& corrected = m_corrected;
   std::int64_t moved = 0, mixed = 0;

@@ -115,7 +115,8 @@ class VolumeFraction {
 
   grid::UniformGrid m_mac;
   std::vector<double> m_fraction;
-  std::vector<std::uint8_t> m_dilating;   ///< the dilation term's cells: φ^n's liquid cells
+  std::vector<double> m_dilating;  ///< the dilation term's weight: 1 in φ^n's liquid cells
+  std::vector<std::uint8_t> m_left;  ///< the cells the last correct() left to φ
   std::vector<std::uint8_t> m_in_source;  ///< the cells of the emitters that are on
   std::vector<Eigen::Vector3d> m_normal;  ///< the planes' normals (zero: not yet cut)
   std::vector<double> m_height;           ///< the planes' heights this pass
