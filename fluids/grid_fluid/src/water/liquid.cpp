@@ -312,12 +312,14 @@ const NodeFields& Liquid::particle_velocity(const NodeFields& nodes, const MacGr
   return m_centre_velocity;
 }
 
-void Liquid::advect_fraction(double t, const MacGrid& mac, double dt) {
+void Liquid::advect_fraction(double t, const MacGrid& mac, double dt, const ShellGeometry& shells,
+                             const geometry::ShellBand* band) {
   // Before the first projection F moves with the faces as they stand, the emitters on now.
   std::vector<grid::IndexBox> on;
   for (const WaterSource& s : m_sources)
     if (s.active(t)) on.push_back(emitter_cells(s));
-  m_fraction.advect(mac, m_level_set, dt, on);
+  mark_cut_cells(shells, band);
+  m_fraction.advect(mac, m_level_set, dt, on, m_cut_cells);
   m_budget.outflow += m_fraction.stats().outflow;
   m_budget.added += m_fraction.stats().dilated;
 }
@@ -381,7 +383,7 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
     if (!std::isnan(m_phase_end)) m_phase_drift.between_steps += start_volume - m_phase_end;
     m_phase_end = start_volume;
   }
-  if (m_fraction.enabled()) advect_fraction(t, mac, dt);
+  if (m_fraction.enabled()) advect_fraction(t, mac, dt, shells, band);
   // The volume budget's flows over the step, from φ^n.
   const grid::UniformGrid& grid = m_level_set.mac_grid();
   // With a volume fraction the budget counts what F carries out and what the emitters add

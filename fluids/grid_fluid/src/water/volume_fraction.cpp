@@ -182,10 +182,11 @@ void VolumeFraction::keep_projected_faces(const MacGrid& mac,
 }
 
 void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, double dt,
-                            const std::vector<grid::IndexBox>& on) {
+                            const std::vector<grid::IndexBox>& on,
+                            std::span<const std::uint8_t> cut) {
   std::array<const std::vector<double>*, 3> u;
   for (int a = 0; a < 3; ++a) u[a] = m_faces[a].empty() ? &mac.face_velocity(a) : &m_faces[a];
-  advect(u, level_set, dt, m_faces[0].empty() ? on : m_faces_sources);
+  advect(u, level_set, dt, m_faces[0].empty() ? on : m_faces_sources, cut);
 }
 
 void VolumeFraction::save(sdk::StateWriter& out) const {
@@ -229,7 +230,8 @@ void VolumeFraction::restore(sdk::StateReader& in) {
 
 void VolumeFraction::advect(const std::array<const std::vector<double>*, 3>& u,
                             const LevelSet& level_set, double dt,
-                            const std::vector<grid::IndexBox>& sources) {
+                            const std::vector<grid::IndexBox>& sources,
+                            std::span<const std::uint8_t> cut) {
   const std::int64_t step = m_steps++;
   m_stats = VolumeFractionStats{};
   // Weymouth and Yue's sweeps keep F in [0, 1] up to a Courant number of ½ per sweep: the
@@ -251,7 +253,7 @@ void VolumeFraction::advect(const std::array<const std::vector<double>*, 3>& u,
   // it (any weight constant over the step adds up to nothing on divergence-free faces).
   m_dilating.resize(count);
   for (std::int64_t c = 0; c < count; ++c)
-    m_dilating[c] = phi[c] > 0.0 ? 0.0 : !m_left.empty() && m_left[c] != 0 ? m_fraction[c] : 1.0;
+    m_dilating[c] = phi[c] > 0.0 ? 0.0 : !cut.empty() && cut[c] != 0 ? m_fraction[c] : 1.0;
   m_in_source.assign(count, 0);
   for (const grid::IndexBox& box : sources)
     for (int k = box.lo.z(); k <= box.hi.z(); ++k)
@@ -402,7 +404,6 @@ void VolumeFraction::correct(LevelSet& level_set, bool signs_only,
   auto& phi = level_set.phi();
   const double dx = m_mac.dx();
   const std::int64_t count = m_mac.size(Location::Cell);
-  if (!signs_only) m_left.assign(left.begin(), left.end());
   m_corrected = phi;
   std::vector<double>& corrected = m_corrected;
   std::int64_t moved = 0, mixed = 0;

@@ -71,9 +71,11 @@ class VolumeFraction {
   /// F over dt, the planes' normals from φ, with the faces kept since the last projection
   /// (before the first one, `mac`'s as they stand and the emitters `on` now); what the
   /// dilation term makes in the emitters' cells is added water. The sweeps' order
-  /// alternates step by step (x y z, then z y x).
+  /// alternates step by step (x y z, then z y x). `cut` (one byte per cell, may be empty):
+  /// the cells a shell cuts, whose φ correct() leaves alone.
   void advect(const MacGrid& mac, const LevelSet& level_set, double dt,
-              const std::vector<grid::IndexBox>& on = {});
+              const std::vector<grid::IndexBox>& on = {},
+              std::span<const std::uint8_t> cut = {});
   /// For a checkpoint: F, the faces it moves with next and their emitters, the steps, what
   /// its lower bound raised.
   void save(sdk::StateWriter& out) const;
@@ -104,7 +106,8 @@ class VolumeFraction {
 
  private:
   void advect(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
-              double dt, const std::vector<grid::IndexBox>& sources);
+              double dt, const std::vector<grid::IndexBox>& sources,
+              std::span<const std::uint8_t> cut);
   /// The three sweeps over dt (its Courant number at most ½), in the order `order` picks;
   /// sets m_stats' clipped, outflow, dilated and divergence for them.
   void sweeps(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
@@ -116,7 +119,6 @@ class VolumeFraction {
   grid::UniformGrid m_mac;
   std::vector<double> m_fraction;
   std::vector<double> m_dilating;  ///< the dilation term's weight: 1 in φ^n's liquid cells
-  std::vector<std::uint8_t> m_left;  ///< the cells the last correct() left to φ
   std::vector<std::uint8_t> m_in_source;  ///< the cells of the emitters that are on
   std::vector<Eigen::Vector3d> m_normal;  ///< the planes' normals (zero: not yet cut)
   std::vector<double> m_height;           ///< the planes' heights this pass
