@@ -25,14 +25,20 @@ namespace {
 
 using namespace shellflow;
 
+/// The water cores compared: φ on the nodes, on the cells, on the cells with a volume fraction.
+enum Core { kNodes = 0, kCells = 1, kFraction = 2 };
+
 /// A unit tank, closed; a water column 0.25 m wide and 0.5 m high against the −x wall
 /// across the whole depth (the Martin–Moyce column, extruded).
-std::unique_ptr<grid_fluid::GridFluid> dam_break(int resolution, int particles_per_cell = 0) {
+std::unique_ptr<grid_fluid::GridFluid> dam_break(int resolution, int particles_per_cell = 0,
+                                                 int core = kNodes) {
   nlohmann::json params = {
       {"resolution", resolution},
       {"pressure", {{"tolerance", 1e-5}}},
       {"water",
        {{"particles", {{"per_cell", particles_per_cell}}},
+        {"level_set", core == kNodes ? "nodes" : "cells"},
+        {"volume_fraction", core == kFraction},
         {"initial",
          nlohmann::json::array(
              {{{"type", "box"}, {"min", {-1.0, -1.0, -1.0}}, {"max", {0.25, 0.5, 2.0}}}})}}}};
@@ -83,7 +89,8 @@ constexpr double kWarmUpSeconds = 0.1;  // the column collapsing before timing
 
 void BM_DamBreak(benchmark::State& state) {
   const int resolution = static_cast<int>(state.range(0));
-  auto fluid = dam_break(resolution, static_cast<int>(state.range(1)));
+  auto fluid = dam_break(resolution, static_cast<int>(state.range(1)),
+                         static_cast<int>(state.range(2)));
   double t = 0.0;
   PhaseTimes warm_up;
   while (t < kWarmUpSeconds) step(*fluid, t, warm_up);
@@ -111,19 +118,27 @@ void BM_DamBreak(benchmark::State& state) {
   state.counters["marched_share"] = times.marched / steps / cells;
   state.counters["extrapolated_share"] = times.extrapolated / steps / (3.0 * cells);
 }
-// Args: resolution, particles per cell (0: the level set alone; 16: the particle level set).
+// Args: resolution, particles per cell (0: the level set alone; 16: the particle level set),
+// the core (Core).
 BENCHMARK(BM_DamBreak)
-    ->Args({64, 0})
-    ->Args({64, 16})
-    ->Args({128, 0})
-    ->Args({128, 16})
+    ->Args({64, 0, kNodes})
+    ->Args({64, 16, kNodes})
+    ->Args({128, 0, kNodes})
+    ->Args({128, 16, kNodes})
+    ->Args({64, 0, kCells})
+    ->Args({64, 0, kFraction})
+    ->Args({128, 0, kCells})
+    ->Args({128, 16, kCells})
+    ->Args({128, 0, kFraction})
     ->Unit(benchmark::kMillisecond)
     ->Iterations(3);
 
-/// `--peak-memory=N`: the warm-up and three steps of a dam break in this process, then
+/// `--peak-memory=N,CORE`: the warm-up and three steps of a dam break in this process, then
 /// its peak resident set (getrusage ru_maxrss) printed as "peak_rss_kb <value>".
 int measure_peak_memory(const std::string& spec) {
-  auto fluid = dam_break(std::stoi(spec));
+  const auto comma = spec.find(',');
+  auto fluid = dam_break(std::stoi(spec.substr(0, comma)), 0,
+                         comma == std::string::npos ? kNodes : std::stoi(spec.substr(comma + 1)));
   double t = 0.0;
   PhaseTimes times;
   while (t < kWarmUpSeconds || times.steps < 3) step(*fluid, t, times);
@@ -131,9 +146,16 @@ int measure_peak_memory(const std::string& spec) {
 }
 
 void BM_PeakMemory(benchmark::State& state) {
-  bench::measure_in_child(state, std::to_string(state.range(0)));
+  bench::measure_in_child(state,
+                          std::to_string(state.range(0)) + "," + std::to_string(state.range(1)));
 }
-BENCHMARK(BM_PeakMemory)->Arg(64)->Arg(128)->Unit(benchmark::kSecond)->Iterations(1);
+BENCHMARK(BM_PeakMemory)
+    ->Args({64, kNodes})
+    ->Args({128, kNodes})
+    ->Args({128, kCells})
+    ->Args({128, kFraction})
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1);
 
 }  // namespace
 
