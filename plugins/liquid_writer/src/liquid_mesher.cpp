@@ -20,6 +20,9 @@ namespace {
 constexpr double kClippedValue = 1e-3;
 /// OpenVDB's usual narrow-band half-width (LEVEL_SET_HALF_WIDTH) [voxels].
 constexpr double kHalfWidth = 3.0;
+/// Just inside the band (float's 2^-24 with room): a ghost there is an active voxel whose
+/// crossing with a deep inner one (−kHalfWidth) lies halfway, on the wall.
+constexpr double kInsideBand = kHalfWidth * (1.0 - 1e-6);
 /// Cells about a touched cell kept from merging when adaptive [cells].
 constexpr int kUnmergedRing = 2;
 /// Ghost layers about a cell field in a smoothing pass: a pass filters and renormalises
@@ -167,14 +170,15 @@ std::vector<double> cell_samples(const sdk::FieldView& phi, int smoothing, doubl
   } else {
     psi = grown(phi.data[0], phi.dims, 1);
   }
-  // The ghosts: a wet first cell's φ mirrored, a dry one's air.
+  // The ghosts: a wet first cell's φ mirrored, a dry one's air; inside the narrow band, or
+  // the mesher (which meshes about active voxels) left the wall under deep water open.
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
       for (int i = 0; i < n[0]; ++i) {
         if (i > 0 && j > 0 && k > 0 && i < n[0] - 1 && j < n[1] - 1 && k < n[2] - 1) continue;
         const double b = psi[node_index(n, std::clamp(i, 1, n[0] - 2), std::clamp(j, 1, n[1] - 2),
                                         std::clamp(k, 1, n[2] - 2))];
-        psi[node_index(n, i, j, k)] = std::max(-b, tau);
+        psi[node_index(n, i, j, k)] = std::min(std::max(-b, tau), kInsideBand * phi.dx);
       }
   return psi;
 }

@@ -15,12 +15,19 @@
 namespace shellflow::liquid_writer {
 namespace {
 
-TEST(ThinWallDamMesh, NoTriangleJoinsTheWetSideToTheDrySide) {
+/// On φ's nodes and on its cells (whose mesh closes on the walls through ghost layers).
+class ThinWallDamMesh : public ::testing::TestWithParam<const char*> {};
+
+INSTANTIATE_TEST_SUITE_P(Layouts, ThinWallDamMesh, ::testing::Values("nodes", "cells"),
+                         [](const auto& info) { return std::string(info.param); });
+
+TEST_P(ThinWallDamMesh, NoTriangleJoinsTheWetSideToTheDrySide) {
   auto fluid = grid_fluid::test::make_fluid(
       {{"resolution", 16},
        {"pressure", {{"tolerance", 1e-6}}},
        {"water",
-        {{"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.55, 0.8, 2}}}}}}}});
+        {{"level_set", GetParam()},
+         {"initial", {{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.55, 0.8, 2}}}}}}}});
   const double dx = fluid->grid().dx();
   const double plate_x = 0.5 + dx / 3.0;
   const sdk::ShellSurface plate =
