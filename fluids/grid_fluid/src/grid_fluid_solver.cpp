@@ -93,6 +93,7 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
                         "/water/sources");
     m_liquid = std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up,
                                         context.fps, m_boundary, context.gravity);
+    if (m_liquid->cell_centred()) m_refill.track_cells();  // φ's samples the shells sweep
   }
   for (size_t i = 0; i < sources.size(); ++i) {
     const std::string path = "/sources/" + std::to_string(i);
@@ -288,7 +289,8 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   }
   const ShellGeometry& geom_np1 = m_geometry_np1 && shells ? *m_geometry_np1 : none;
   if (m_liquid) {  // §4.4.1: φ refilled, then a signed distance again, against shells^{n+1}
-    m_liquid->refill(shells ? m_refill.swept_nodes() : std::span<const std::int64_t>(), m_nodes, dt,
+    const auto swept = m_liquid->cell_centred() ? m_refill.swept_cells() : m_refill.swept_nodes();
+    m_liquid->refill(shells ? swept : std::span<const std::int64_t>(), m_nodes, dt,
                      geom_n, geom_np1);
     m_liquid->reinitialize(geom_n, geom_np1, band, t + dt);
   }

@@ -19,6 +19,7 @@ SweptRefillStats SweptRefill::run(const ShellGeometry& start, const ShellGeometr
     m_node_valid.assign(nodes, 1);
     m_node_valid_before.assign(nodes, 1);
     for (int a = 0; a < 3; ++a) m_face_swept[a].assign(m_grid.size(face_location(a)), 0);
+    if (m_track_cells) m_cell_swept.assign(m_grid.size(Location::Cell), 0);
   }
   // Reset last step's flags (only where they were set).
   for (const std::int64_t i : m_invalid_list) {
@@ -30,6 +31,8 @@ SweptRefillStats SweptRefill::run(const ShellGeometry& start, const ShellGeometr
     for (const std::int64_t f : m_face_lists[a]) m_face_swept[a][f] = 0;
     m_face_lists[a].clear();
   }
+  for (const std::int64_t c : m_cell_list) m_cell_swept[c] = 0;
+  m_cell_list.clear();
   if (start.empty() || end.empty() || start.shell_count() != end.shell_count()) return stats;
 
   const geometry::SweptPointInvalidator invalidator(m_grid, end.epsilon());
@@ -40,6 +43,8 @@ SweptRefillStats SweptRefill::run(const ShellGeometry& start, const ShellGeometr
     for (int a = 0; a < 3; ++a)
       invalidator.invalidate(face_location(a), start.mesh(s), end.mesh(s), m_face_swept[a],
                              m_face_lists[a]);
+    if (m_track_cells)
+      invalidator.invalidate(Location::Cell, start.mesh(s), end.mesh(s), m_cell_swept, m_cell_list);
   }
   stats.invalid_nodes = static_cast<std::int64_t>(m_invalid_list.size());
   for (int a = 0; a < 3; ++a) stats.invalid_faces += static_cast<std::int64_t>(m_face_lists[a].size());

@@ -7,7 +7,6 @@
 #include <limits>
 #include <string_view>
 
-#include "shellflow/geometry/swept_point_invalidator.hpp"
 #include "shellflow/grid_fluid/mac/ordered_sum.hpp"
 #include "shellflow/grid_fluid/water/initial_water.hpp"
 #include "shellflow/sdk/error.hpp"
@@ -500,28 +499,10 @@ void Liquid::carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFi
   }
 }
 
-std::span<const std::int64_t> Liquid::swept_cells(const ShellGeometry& shells_n,
-                                                  const ShellGeometry& shells) {
-  for (const std::int64_t i : m_swept_cells) m_swept_flags[i] = 0;
-  m_swept_cells.clear();
-  if (shells_n.empty() || shells.empty() || shells_n.shell_count() != shells.shell_count())
-    return {};
-  const grid::UniformGrid& mac = m_level_set.mac_grid();
-  m_swept_flags.resize(mac.size(Location::Cell), 0);
-  const geometry::SweptPointInvalidator invalidator(mac, shells.epsilon());
-  for (int s = 0; s < shells_n.shell_count(); ++s)
-    if (shells_n.mesh(s).same_topology(shells.mesh(s)))
-      invalidator.invalidate(Location::Cell, shells_n.mesh(s), shells.mesh(s), m_swept_flags,
-                             m_swept_cells);
-  return m_swept_cells;
-}
-
 void Liquid::refill(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
                     const ShellGeometry& shells_n, const ShellGeometry& shells) {
   const auto start = std::chrono::steady_clock::now();
-  // On cells φ's samples are the cell centres, swept as the nodes are, moving with the
-  // centres' velocities advect() traced with.
-  if (cell_centred()) swept = swept_cells(shells_n, shells);
+  // On cells the swept centres move with the centres' velocities advect() traced with.
   const NodeFields& u = cell_centred() ? m_centre_velocity : velocity;
   if (!swept.empty()) carry_swept_nodes(swept, u, dt, shells_n, shells);
   for (const std::int64_t i : m_invalid) m_valid[i] = 0;

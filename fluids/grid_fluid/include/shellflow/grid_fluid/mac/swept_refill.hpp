@@ -27,6 +27,8 @@ struct SweptRefillStats {
 class SweptRefill {
  public:
   SweptRefill(const grid::UniformGrid& grid, double ambient_temperature);
+  /// run() also lists the cell centres the shells sweep (water whose φ lives on them).
+  void track_cells() { m_track_cells = true; }
 
   /// Invalidates and refills `fields` for the motion start → end (same shells, same
   /// order, same topology). Afterwards node_valid_before()[i] is 0 for the nodes that were
@@ -36,6 +38,8 @@ class SweptRefill {
   std::span<const std::uint8_t> node_valid_before() const { return m_node_valid_before; }
   /// The nodes node_valid_before() flags, as a list.
   std::span<const std::int64_t> swept_nodes() const { return m_invalid_list; }
+  /// The cell centres swept (track_cells(); empty otherwise).
+  std::span<const std::int64_t> swept_cells() const { return m_cell_list; }
   const std::array<std::vector<std::uint8_t>, 3>& face_swept() const { return m_face_swept; }
 
  private:
@@ -47,6 +51,9 @@ class SweptRefill {
   std::vector<std::int64_t> m_invalid_list;
   std::array<std::vector<std::uint8_t>, 3> m_face_swept;
   std::array<std::vector<std::int64_t>, 3> m_face_lists;
+  bool m_track_cells = false;
+  std::vector<std::uint8_t> m_cell_swept;
+  std::vector<std::int64_t> m_cell_list;
   /// Copies of the nodes the refill may read: the invalid ones and their one-ring.
   grid::SparseSamples<NodeSample> m_scratch;
 };

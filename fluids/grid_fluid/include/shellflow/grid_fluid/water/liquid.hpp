@@ -117,10 +117,10 @@ class Liquid {
   void advect(double t, const NodeFields& velocity, const MacGrid& mac, double dt,
               const ShellGeometry& shells, const geometry::ShellBand* band);
   void add_sources(double t, DomainBoundary& boundary);
-  /// `swept`: the nodes the shells swept n → n+1 (SweptRefill::swept_nodes); may be empty.
-  /// `velocity`: the node velocities after the advection, swept nodes refilled; `shells_n`,
-  /// `shells`: the shells at the start and the end of the step. On cells neither `swept`
-  /// nor `velocity` is read: the swept cell centres and their velocities from advect().
+  /// `swept`: φ's samples the shells swept n → n+1 (SweptRefill::swept_nodes, or on cells
+  /// swept_cells); may be empty. `velocity`: the node velocities after the advection, swept
+  /// nodes refilled (on cells not read: the centres' velocities from advect()); `shells_n`,
+  /// `shells`: the shells at the start and the end of the step.
   void refill(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
               const ShellGeometry& shells_n, const ShellGeometry& shells);
   /// `shells_n`, `shells`: the shells at the start and the end of the step; `t_end`: the
@@ -155,9 +155,6 @@ class Liquid {
   void carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
                          const ShellGeometry& shells_n, const ShellGeometry& shells);
 
-  /// On cells: the cell centres the shells swept n → n+1 (§3), as a list.
-  std::span<const std::int64_t> swept_cells(const ShellGeometry& shells_n,
-                                            const ShellGeometry& shells);
   /// The cells a face the shells close bounds (their two sides share one F), in
   /// m_cut_cells: F leaves φ as it is there.
   void mark_cut_cells(const ShellGeometry& shells, const geometry::ShellBand* band);
@@ -176,8 +173,6 @@ class Liquid {
   std::vector<grid::IndexBox> m_held_sources;  ///< cells of the emitters on this step
   std::vector<double> m_scratch;      ///< φ* being advected; after advect(), φ^n
   std::vector<double> m_swept_value;  ///< refill(): their φ^n carried with the shell
-  std::vector<std::uint8_t> m_swept_flags;  ///< on cells: the cells swept this step
-  std::vector<std::int64_t> m_swept_cells;  ///< those, as a list
   std::vector<std::uint8_t> m_cut_cells;    ///< mark_cut_cells()'
   std::vector<std::int64_t> m_cut_list;     ///< those, as a list
   std::vector<double> m_built;    ///< φ as the scene built it, until the first step
