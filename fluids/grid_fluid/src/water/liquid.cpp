@@ -747,13 +747,9 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
   if (m_fraction.enabled()) {
     m_fraction.take_extrapolated_faces(
         mac, [&](std::int64_t cell) { return projection.fluid_cell(cell); });
-    if (band != nullptr && !shells.empty()) {
-      const auto& apertures = shells.face_apertures(*band);
-      for (int a = 0; a < 3; ++a)
-        for (const FaceAperture& open : apertures[a])
-          if (projection.neumann(a)[open.face] == 0)
-            m_fraction.cut_face(a, open.face, open.fraction, shells.velocity_at(open.hit)[a]);
-    }
+    for (int a = 0; a < 3; ++a)
+      for (const FaceApertures::Face& open : projection.apertures().faces(a))
+        m_fraction.cut_face(a, open.face, open.fraction, open.shell_velocity);
   }
   m_stats.t_extrapolate = seconds_since(start);
 }

@@ -129,6 +129,8 @@ class PressureProjection {
   /// Neumann flags of the last projection for face family `axis`: 1 a wall's, an inflow
   /// side's or an emitter's face, 2 a face a shell closes (Fig. 5), 0 none.
   const std::vector<std::uint8_t>& neumann(int axis) const { return m_neumann[axis]; }
+  /// The face fractions near shells the last projection balanced (none without shells).
+  const FaceApertures& apertures() const { return m_apertures; }
   /// Region id of each cell in the last projection.
   const std::vector<int>& region() const { return m_regions.region; }
   /// Scaled pressures p' = p Δt / Δx of the last projection (the next initial guess; part
