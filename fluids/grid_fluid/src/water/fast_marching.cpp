@@ -1,11 +1,12 @@
 #include "shellflow/grid_fluid/water/fast_marching.hpp"
-#include "shellflow/grid_fluid/water/level_set.hpp"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 #include <queue>
+
+#include "shellflow/grid_fluid/water/level_set.hpp"
 
 namespace shellflow::grid_fluid {
 

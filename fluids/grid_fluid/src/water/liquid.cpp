@@ -206,19 +206,22 @@ void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry:
     const Eigen::Vector3d x = grid.position(Location::Node, ijk);
     const auto contact = shells.nearest(x, -p + tolerance, x);
     if (!contact) continue;
-    const std::uint32_t hidden = shells.hidden_axis_neighbours(grid, ijk);
     // The surface a neighbour it sees across the surface implies: between them, where a
-    // plane square to their axis through that neighbour's distance puts it.
-    double across = -kInfinity;
-    for (int a = 0; a < 3; ++a)
-      for (int side = 0; side < 2; ++side) {
-        if ((hidden >> (2 * a + side) & 1u) != 0) continue;
-        Eigen::Vector3i j = ijk;
-        j[a] += side == 0 ? -1 : 1;
-        if (j[a] < 0 || j[a] >= n[a]) continue;
-        const double q = built[grid.index(Location::Node, j)];
-        if (q > 0.0) across = std::max(across, q);
-      }
+    // plane square to their axis through that neighbour's distance puts it (−∞: none).
+    const auto surface_across = [&] {
+      const std::uint32_t hidden = shells.hidden_axis_neighbours(grid, ijk);
+      double across = -kInfinity;
+      for (int a = 0; a < 3; ++a)
+        for (int side = 0; side < 2; ++side) {
+          if ((hidden >> (2 * a + side) & 1u) != 0) continue;
+          Eigen::Vector3i j = ijk;
+          j[a] += side == 0 ? -1 : 1;
+          if (j[a] < 0 || j[a] >= n[a]) continue;
+          const double q = built[grid.index(Location::Node, j)];
+          if (q > 0.0) across = std::max(across, q);
+        }
+      return across;
+    };
     if (p <= -tolerance) {
       // Its nearest shell point as far as its nearest point of the shape: the shell touches
       // the ball of water about the node where the shape's surface does.
@@ -245,12 +248,14 @@ void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry:
       // Where two faces meet by the shell (a cup's water line at its wall) the gradient
       // mixes them: the node keeps its φ unless a surface it sees lies nearer.
       if (!along) {
+        const double across = surface_across();
         if (across != -kInfinity) phi[i] = std::min(p, across - dx);
         continue;
       }
     }
     // Deep water, unless a neighbour it sees lies across the surface (its own φ held where
     // the surface is; −band would read it next to the node).
+    const double across = surface_across();
     phi[i] = across == -kInfinity ? -deep : std::min(across - dx, 0.0);
   }
 }

@@ -16,7 +16,6 @@
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
-
 #include "shellflow/grid/uniform_grid.hpp"
 
 namespace shellflow::grid_fluid {

@@ -12,9 +12,9 @@
 // docs/water-cell-centres.md §5 says why.
 
 #include <array>
-#include <span>
 #include <cstdint>
 #include <functional>
+#include <span>
 #include <vector>
 
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
@@ -89,12 +89,13 @@ class VolumeFraction {
   /// φ at the centre of each cell F cuts set to its signed distance to F's plane there
   /// (normal from φ); a cell F holds no water in made air, one it fills made water. With
   /// `signs_only`, only the cells whose side disagrees with F's (F ≥ ½ is water): after
-  /// the reinitialisation, so that the next step's liquid cells are F's.
+  /// the reinitialisation, so that the next step's liquid cells are F's. The cells `left`
+  /// flags (one byte per cell, may be empty) keep their φ.
+  void correct(LevelSet& level_set, bool signs_only = false,
+               std::span<const std::uint8_t> left = {});
   /// F set to the planes correct() would put φ on (its inverse): the share of each cell
   /// below the plane through φ at its centre, normal to φ's gradient.
   void fit(const LevelSet& level_set);
-  void correct(LevelSet& level_set, bool signs_only = false,
-               std::span<const std::uint8_t> left = {});
 
   /// The height d of the plane n·x = d (x from the centre of a unit cube, n a unit normal)
   /// below which the cube holds `fraction` of its volume.
@@ -118,12 +119,13 @@ class VolumeFraction {
 
   grid::UniformGrid m_mac;
   std::vector<double> m_fraction;
-  std::vector<double> m_dilating;  ///< the dilation term's weight: 1 in φ^n's liquid cells
+  std::vector<double> m_dilating;  ///< the dilation term's weight: φ^n's liquid cells' (F^n
+                                   ///< in those a shell cuts, else 1), 0 elsewhere
   std::vector<std::uint8_t> m_in_source;  ///< the cells of the emitters that are on
   std::vector<Eigen::Vector3d> m_normal;  ///< the planes' normals (zero: not yet cut)
   std::vector<double> m_height;           ///< the planes' heights this pass
   std::vector<double> m_carried;          ///< the water each face carries this pass
-  std::vector<double> m_corrected;        ///< correct()'s φ being built
+  std::vector<double> m_corrected;        ///< correct()'s φ (fit()'s F) being built
   double m_clipped_total = 0.0;
   std::array<std::vector<double>, 3> m_faces;  ///< what F moves with next (empty: none kept)
   std::vector<grid::IndexBox> m_faces_sources;  ///< the emitters whose held faces those are
