@@ -40,7 +40,7 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
 
   // Which axis neighbours each shell-band node cannot see (rays only there).
   if (shell_band != nullptr && !shells.empty()) {
-    const auto list = shell_band->samples(LevelSet::lattice_location(m_grid, shell_band->grid()));
+    const auto list = LevelSet::band_samples(*shell_band, m_grid);
     const std::int64_t m = static_cast<std::int64_t>(list.size());
 #pragma omp parallel for schedule(dynamic, 256)
     for (std::int64_t s = 0; s < m; ++s) {

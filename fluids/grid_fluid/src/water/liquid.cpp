@@ -195,7 +195,7 @@ void Liquid::forget_faces_on_shells(const ShellGeometry& shells, const geometry:
   const Eigen::Vector3i n = grid.counts(Location::Node);
   const std::vector<double>& built = m_built;  // φ reads it, and is set below
   auto& phi = m_level_set.phi();
-  const auto list = band.samples(LevelSet::lattice_location(grid, band.grid()));
+  const auto list = LevelSet::band_samples(band, grid);
   const std::int64_t m = static_cast<std::int64_t>(list.size());
 #pragma omp parallel for schedule(dynamic, 256)
   for (std::int64_t s = 0; s < m; ++s) {
@@ -339,7 +339,6 @@ void Liquid::centre_velocities(const MacGrid& mac) {
   const grid::UniformGrid& grid = mac.grid();
   const Eigen::Vector3i cells = grid.cells();
   const auto& phi = m_level_set.phi();
-  const auto unit = [](int a) { return Eigen::Vector3i::Unit(a); };
   // The faces the last projection's shells closed (extrapolate()'s 3); none before the first.
   const auto shell_face = [&](int a, const Eigen::Vector3i& f) {
     return !m_known[a].empty() && m_known[a][grid.index(face_location(a), f)] == 3;
@@ -361,7 +360,7 @@ void Liquid::centre_velocities(const MacGrid& mac) {
           // holds the wall's. (Averaged in, a layer landing on a shelf slowed its underside
           // to half its speed while its top kept falling: the layer thinned.)
           if (phi[cell] > 0.0 && cells[a] > 1) {
-            const Eigen::Vector3i below = f - unit(a);
+            const Eigen::Vector3i below = f - Eigen::Vector3i::Unit(a);
             const bool solid_below = f[a] == 1 ? m_walls[2 * a] : shell_face(a, below);
             const bool solid_above = f[a] == cells[a] ? m_walls[2 * a + 1] : shell_face(a, f);
             if (solid_below && !solid_above) lower = upper;

@@ -46,6 +46,11 @@ class LevelSet {
                                                   const grid::UniformGrid& lattice) {
     return band.flags(lattice_location(lattice, band.grid()));
   }
+  /// `band`'s list of `lattice`'s nodes (their flat indices).
+  static std::span<const std::int64_t> band_samples(const geometry::ShellBand& band,
+                                                    const grid::UniformGrid& lattice) {
+    return band.samples(lattice_location(lattice, band.grid()));
+  }
   double band() const { return m_band; }
   std::vector<double>& phi() { return m_phi; }
   const std::vector<double>& phi() const { return m_phi; }
