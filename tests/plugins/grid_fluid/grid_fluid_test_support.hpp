@@ -168,7 +168,7 @@ class TranslatingShell final : public sdk::SolidSolver {
 /// (/water/level_set), or "fraction" (cells with /water/volume_fraction).
 inline nlohmann::json water_core(const std::string& core, nlohmann::json water) {
   water["level_set"] = core == "fraction" ? "cells" : core;
-  if (core == "fraction") water["volume_fraction"] = true;
+  water["volume_fraction"] = core == "fraction";
   return water;
 }
 

@@ -51,11 +51,12 @@ TEST(VolumeBudget, AFaceWetFractionIsExactForALinearLevelSet) {
   }
 }
 
+/// The node core's budget (water_cells_budget_test has the cells').
 nlohmann::json tank(nlohmann::json water, nlohmann::json boundary = nlohmann::json::object()) {
   return {{"resolution", 24},
           {"pressure", {{"tolerance", 1e-8}}},
           {"boundary", std::move(boundary)},
-          {"water", std::move(water)}};
+          {"water", test::water_core("nodes", std::move(water))}};
 }
 
 using test::run_for;
@@ -224,8 +225,11 @@ TEST(VolumeBudget, ThePhasesDriftsAddUpToTheDrift) {
   auto carried = test::make_fluid(
       {{"resolution", 16},
        {"water",
-        {{"volume_by_phase", true},
-         {"initial", {{{"type", "sphere"}, {"center", {0.35, 0.35, 0.35}}, {"radius", 0.15}}}}}},
+        test::water_core("nodes",
+                         {{"volume_by_phase", true},
+                          {"initial", {{{"type", "sphere"},
+                                        {"center", {0.35, 0.35, 0.35}},
+                                        {"radius", 0.15}}}}})},
        {"prescribed_velocity", {{"type", "deformation"}, {"period", 3.0}}}},
       Eigen::Vector3d::Zero());
   run_for(*carried, 0.3);
@@ -278,8 +282,10 @@ TEST(VolumeBudget, LostWaterIsWarnedOfAsItPassesEachLevel) {
   const double dx = 1.0 / 16;
   auto fluid = test::make_fluid(
       {{"resolution", 16},
-       {"water",
-        {{"initial", {{{"type", "sphere"}, {"center", {0.5, 0.6, 0.5}}, {"radius", 0.9 * dx}}}}}}});
+       {"water",  // the level set alone, which loses such a drop
+        test::water_core("cells", {{"initial", {{{"type", "sphere"},
+                                                  {"center", {0.5, 0.6, 0.5}},
+                                                  {"radius", 0.9 * dx}}}}})}});
   const double largest = run_reporting(*fluid, 0.6);
   const std::vector<std::string> warned = drift_warnings(log);
   std::printf("[  figure  ] a drop 0.9 of a cell in radius: largest drift %.1f %%, %zu warnings\n",

@@ -26,7 +26,8 @@ using Layout = LevelSet::Layout;
 nlohmann::json cell_water(int resolution, nlohmann::json initial, double tolerance = 1e-8) {
   return {{"resolution", resolution},
           {"pressure", {{"tolerance", tolerance}}},
-          {"water", {{"level_set", "cells"}, {"initial", std::move(initial)}}}};
+          {"water",
+           {{"level_set", "cells"}, {"volume_fraction", false}, {"initial", std::move(initial)}}}};
 }
 
 /// The water's volume as the run reports it.
@@ -268,6 +269,7 @@ double zalesak_quarter_turn(const char* layout, int cells, int per_cell) {
            {"resolution", cells},
            {"water",
             {{"level_set", layout},
+             {"volume_fraction", false},
              {"initial",
               {{{"type", "sphere"}, {"center", {50, 75, 50}}, {"radius", 15}},
                {{"type", "box"}, {"min", {47.5, 0, -1}}, {"max", {52.5, 72.5, 101}}, {"subtract", true}}}},
@@ -380,10 +382,11 @@ TEST(VolumeFraction, APlaneCutsTheCubeWhereItsFractionSays) {
               0.5, 1e-14);
 }
 
+/// A water scene on the defaults (cell-centred φ with a volume fraction).
 nlohmann::json fraction_water(int resolution, nlohmann::json initial) {
-  nlohmann::json params = cell_water(resolution, std::move(initial));
-  params["water"]["volume_fraction"] = true;
-  return params;
+  return {{"resolution", resolution},
+          {"pressure", {{"tolerance", 1e-8}}},
+          {"water", {{"initial", std::move(initial)}}}};
 }
 
 TEST(VolumeFraction, AStillPoolKeepsItsFractionsAndStaysAtRest) {
@@ -508,18 +511,14 @@ TEST(VolumeFraction, WaterThrownThroughAnOpenTopIsCountedOutAndNoneComesIn) {
   EXPECT_EQ(fluid->liquid()->level_set().volume(upper), 0.0);
 }
 
-TEST(VolumeFraction, IsRefusedWithoutCellsOrWithParticles) {
+TEST(VolumeFraction, IsRefusedOnNodesNamingBothWaysOut) {
+  // On by default: a scene that names the node core alone is told how to go on.
   nlohmann::json pool = {{{"type", "pool"}, {"height", 0.3}}};
   const std::string nodes = test::validate_refusal(
-      {{"resolution", 8}, {"water", {{"volume_fraction", true}, {"initial", pool}}}});
+      {{"resolution", 8}, {"water", {{"level_set", "nodes"}, {"initial", pool}}}});
   EXPECT_NE(nodes.find("/fluid/water/volume_fraction"), std::string::npos) << nodes;
+  EXPECT_NE(nodes.find("false"), std::string::npos) << nodes;
   EXPECT_NE(nodes.find("cells"), std::string::npos) << nodes;
-  const std::string particles = test::validate_refusal(
-      {{"resolution", 8},
-       {"water",
-        {{"level_set", "cells"}, {"volume_fraction", true}, {"initial", pool},
-         {"particles", {{"per_cell", 8}}}}}});
-  EXPECT_NE(particles.find("/fluid/water/volume_fraction"), std::string::npos) << particles;
 }
 
 TEST(WaterOnCells, ThePlanSaysWhereThePhiLivesAndWhetherAFractionIsCarried) {
@@ -535,7 +534,12 @@ TEST(WaterOnCells, ThePlanSaysWhereThePhiLivesAndWhetherAFractionIsCarried) {
   EXPECT_EQ(enabled(*plain, "volume_fraction"), std::optional<bool>(false));
   params["water"]["volume_fraction"] = true;
   EXPECT_EQ(enabled(*test::make_fluid(params), "volume_fraction"), std::optional<bool>(true));
-  params["water"] = {{"initial", {{{"type", "pool"}, {"height", 0.3}}}}};
+  params["water"] = {{"initial", {{{"type", "pool"}, {"height", 0.3}}}}};  // the defaults
+  const auto defaults = test::make_fluid(params);
+  EXPECT_EQ(enabled(*defaults, "cell_centred_level_set"), std::optional<bool>(true));
+  EXPECT_EQ(enabled(*defaults, "volume_fraction"), std::optional<bool>(true));
+  params["water"]["level_set"] = "nodes";
+  params["water"]["volume_fraction"] = false;
   EXPECT_EQ(enabled(*test::make_fluid(params), "cell_centred_level_set"),
             std::optional<bool>(false));
 }

@@ -137,8 +137,10 @@ TEST(WaterEnergy, ASlabInFreeFallTradesPotentialForKineticEnergy) {
   const double dt = 0.01, depth = 0.22;
   auto fluid = test::make_fluid(water_params(
       24,
-      {{"initial",
-        {{{"type", "box"}, {"min", {-1.0, 1.0, -1.0}}, {"max", {2.0, 1.0 + depth, 2.0}}}}}},
+      test::water_core(
+          "nodes",
+          {{"initial",
+            {{{"type", "box"}, {"min", {-1.0, 1.0, -1.0}}, {"max", {2.0, 1.0 + depth, 2.0}}}}}}),
       1e-10, {{"min", {0, 0, 0}}, {"max", {0.5, 1.5, 0.5}}}));
   const double dx = fluid->grid().dx(), area = 0.5 * 0.5;
   ASSERT_EQ(fluid->grid().cells(), Eigen::Vector3i(8, 24, 8));

@@ -370,7 +370,8 @@ TEST(Water, ALayerFallingOntoAShelfWithAirBeneathStaysOnIt) {
   // still hold the air's φ and must not make them p = 0 sinks (they did: the layer lost
   // two thirds of its volume, its top ending at 0.34).
   auto fluid = test::make_fluid(water_params(
-      16, {{"initial", {{{"type", "box"}, {"min", {-1, 0.395, -1}}, {"max", {2, 0.6, 2}}}}}}));
+      16, test::water_core("nodes", {{"initial", {{{"type", "box"}, {"min", {-1, 0.395, -1}},
+                                                   {"max", {2, 0.6, 2}}}}}})));
   const auto shelf = test::make_plate({0.5, 0.27, 0.5}, Eigen::Vector3d::UnitY(), 1.2, 9);
   const std::vector<sdk::ShellSurface> shells{shelf};
   const std::vector<sdk::Positions> v_eff{shelf.velocities};
@@ -525,7 +526,9 @@ double collapsing_box_volume_ratio(int resolution, const char* advection, double
        {"resolution", resolution},
        {"pressure", {{"tolerance", 1e-6}}},
        {"water",
-        {{"advection", advection},
+        {{"level_set", "nodes"},
+         {"volume_fraction", false},
+         {"advection", advection},
          {"initial",
           {{{"type", "box"}, {"min", {0.05, 0.0, 0.05}}, {"max", {0.29, 0.19, 0.29}}}}}}}});
   const double v0 = fluid->liquid()->level_set().volume();

@@ -49,26 +49,26 @@ sdk::Schema Liquid::schema() {
              "water (§4.4): a level set, φ <= 0 water; its presence makes the scene a water "
              "scene (no smoke density, temperature, buoyancy or vorticity)")
       .field("level_set",
-             Schema::string("nodes")
+             Schema::string("cells")
                  .one_of({"nodes", "cells"})
-                 .doc("where φ is sampled. nodes: the grid's nodes (the paper's §4.4.1); water "
-                      "landing on a dry wall of the domain is lost there, and an open side whose "
-                      "flow turns inward lets water in. cells: one sample per pressure cell, "
-                      "traced with the faces' velocities (PhysBAM's); water that reaches a wall "
-                      "stays, and an open or inflow side lets none in (where its face's "
-                      "velocity points inward the water pulls away from it). Shells cut cells as "
-                      "they cut the nodes' stencils (§3, §4.4); a film thinner than the gap "
-                      "from a shell to the next centre is not kept (docs/water-cell-centres.md)"))
+                 .doc("where φ is sampled. cells: one sample per pressure cell, traced with the "
+                      "faces' velocities (PhysBAM's); water that reaches a wall stays, and an "
+                      "open or inflow side lets none in (where its face's velocity points "
+                      "inward the water pulls away from it). Shells cut cells as they cut the "
+                      "nodes' stencils (§3, §4.4). nodes: the grid's nodes (the paper's "
+                      "§4.4.1), to be removed; water landing on a dry wall of the domain is "
+                      "lost there, and it takes no volume fraction "
+                      "(docs/water-cell-centres.md)"))
       .field("volume_fraction",
-             Schema::boolean(false).doc(
-                 "cells only, experimental: carry each cell's water fraction beside φ, moved in "
-                 "conservative form (Weymouth and Yue 2010) and φ moved to it every step "
-                 "(CLSVOF), so the water's volume changes only through the domain's sides; a "
-                 "layer thinner than half a cell on a wall keeps its water there; emitters add "
-                 "to it and open sides carry it out, counted exactly. Among shells F crosses a "
-                 "face a shell cuts through its open share, and φ is left to the level set in "
-                 "the cells a shell cuts. For now without particles (docs/water-cell-centres.md "
-                 "§5)"))
+             Schema::boolean(true).doc(
+                 "carry each cell's water fraction F beside φ, moved in conservative form "
+                 "(Weymouth and Yue 2010), and move φ to F's planes every step (CLSVOF): the "
+                 "water's volume changes only through the domain's sides and the emitters, "
+                 "counted exactly, and a film thinner than a cell on a wall or a shell keeps "
+                 "its water. Among shells F crosses a face a shell cuts through its open "
+                 "share, and φ is left to the level set in the cells a shell cuts. With "
+                 "particles, they correct φ's shape and F still holds the volume. false: the "
+                 "level set alone, whose volume drifts (docs/water-cell-centres.md §5)"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))
@@ -169,11 +169,9 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   if (params.at("volume_fraction").get<bool>()) {
     if (!cell_centred())
       throw ConfigError("/water/volume_fraction",
-                        "a volume fraction needs cell-centred φ: add \"level_set\": \"cells\"");
-    if (m_particles.enabled())
-      throw ConfigError("/water/volume_fraction",
-                        "a volume fraction and marker particles both correct φ: set "
-                        "/water/particles/per_cell to 0 or leave the volume fraction out");
+                        "a volume fraction (on by default) needs cell-centred φ: set "
+                        "/water/level_set to \"cells\" (the default), or /water/volume_fraction "
+                        "to false to keep φ on the nodes");
     m_fraction = VolumeFraction(m_level_set);
     m_fraction.set_open(m_open);
   }
