@@ -312,7 +312,7 @@ FilmRun film_run(int cells, double thickness, int per_cell) {
   const Eigen::Vector3d n = tilt() * Eigen::Vector3d::UnitY();
   const double period = 4.0;
   auto fluid = test::make_fluid({{"resolution", cells},
-                                 {"water", {{"particles", {{"per_cell", per_cell}}}}},
+                                 {"water", test::water_core("nodes", {{"particles", {{"per_cell", per_cell}}}})},
                                  {"prescribed_velocity",
                                   {{"type", "rigid_rotation"},
                                    {"center", {c.x(), c.y(), c.z()}},
