@@ -40,7 +40,7 @@ void GridFluid::save(sdk::StateWriter& out) const {
         out.write(v);
       out.write(m_liquid->phase_end());
     }
-    if (m_liquid->fraction().enabled()) m_liquid->fraction().save(out);
+    if (m_liquid->fraction().enabled()) m_liquid->fraction().save(out, m_mac);
   }
 }
 
@@ -86,7 +86,7 @@ void GridFluid::restore(sdk::StateReader& in) {
     if (in.at_end())
       throw Error("grid_fluid restore(): the state holds no water fraction (it was saved without "
                   "/fluid/water/volume_fraction); run the scene afresh with --overwrite");
-    m_liquid->fraction().restore(in);
+    m_liquid->fraction().restore(in, m_mac);
   } else if (m_liquid && !in.at_end()) {
     throw Error("grid_fluid restore(): the state holds more than this scene reads (it was saved "
                 "with other /fluid/water options: volume_fraction or volume_by_phase); run the "

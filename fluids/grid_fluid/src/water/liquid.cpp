@@ -266,7 +266,7 @@ void Liquid::settle_among_shells(const ShellGeometry& shells, const geometry::Sh
     if (band != nullptr) forget_faces_on_shells(shells, *band);
     m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
     m_particles.seed(m_level_set, shells);  // about that φ, and kept off the shells
-    if (m_fraction.enabled()) m_fraction.fit(m_level_set);  // and F from it
+    if (m_fraction.enabled()) m_fraction.fit(m_level_set, m_scratch);  // and F from it
   }
   std::vector<double>().swap(m_built);
 }
@@ -548,13 +548,13 @@ void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& sh
   m_particles.correct(m_level_set, shells);
   if (m_fraction.enabled()) {
     mark_cut_cells(shells, band);
-    m_fraction.correct(m_level_set, false, m_cut_cells);
+    m_fraction.correct(m_level_set, m_scratch, false, m_cut_cells);
   }
   const auto start = std::chrono::steady_clock::now();
   m_stats.reinitialization =
       m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
   m_stats.t_reinitialize = seconds_since(start);
-  if (m_fraction.enabled()) m_fraction.correct(m_level_set, /*signs_only=*/true, m_cut_cells);
+  if (m_fraction.enabled()) m_fraction.correct(m_level_set, m_scratch, /*signs_only=*/true, m_cut_cells);
   m_particles.correct(m_level_set, shells);
   m_particles.adjust(m_level_set, shells);
   for (const grid::IndexBox& box : m_emitting) m_particles.top_up(m_level_set, shells, box);
@@ -569,8 +569,12 @@ void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& sh
 }
 
 const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::ShellBand* band) {
+  if (cell_centred()) {  // φ is the cells' own: read in place until the next advect()
+    m_surface.cell_phi = m_level_set.phi();
+    return m_surface;
+  }
   m_level_set.cell_values(m_cell_phi, m_walls);
-  if (band != nullptr && !shells.empty() && !cell_centred()) {
+  if (band != nullptr && !shells.empty()) {
     // A shell-cut cell: only the corners its centre sees say whether it is water. Corners
     // across the shell hold the other side's φ (air beneath a cup's bottom), and averaged
     // in they made the first cell of water on a shell air, p = 0: a drain (§4.3). Pairs of
@@ -743,12 +747,13 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
           known[f] = neumann[f] == 2 ? 3 : neumann[f] != 0 ? 2 : set ? 1 : 0;
         }
   }
-  if (m_fraction.enabled()) m_fraction.keep_projected_faces(mac, m_held_sources);
+  if (m_fraction.enabled())
+    m_fraction.keep_projected_faces(
+        mac, m_known, [&](std::int64_t cell) { return projection.fluid_cell(cell); },
+        m_held_sources);
   m_stats.extrapolation =
       m_extrapolation.extrapolate(mac, m_known, m_level_set, m_extrapolation_width, shells, band);
   if (m_fraction.enabled()) {
-    m_fraction.take_extrapolated_faces(
-        mac, [&](std::int64_t cell) { return projection.fluid_cell(cell); });
     for (int a = 0; a < 3; ++a)
       for (const FaceApertures::Face& open : projection.apertures().faces(a))
         m_fraction.cut_face(a, open.face, open.fraction, open.shell_velocity);

@@ -1,7 +1,9 @@
 #include "shellflow/grid_fluid/water/volume_fraction.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <limits>
 
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/mac/ordered_sum.hpp"
@@ -120,6 +122,8 @@ double sampled_fraction(const grid::UniformGrid& grid, const Eigen::Vector3d& ce
 
 VolumeFraction::VolumeFraction(const LevelSet& level_set) : m_mac(level_set.mac_grid()) {
   const std::int64_t count = m_mac.size(Location::Cell);
+  if (count > std::numeric_limits<std::int32_t>::max())  // m_plane_of's entries
+    throw Error("grid_fluid: a volume fraction takes at most 2^31 cells");
   m_fraction.assign(count, 0.0);
 #pragma omp parallel for schedule(static)
   for (std::int64_t cell = 0; cell < count; ++cell)
@@ -175,34 +179,32 @@ Eigen::Vector3d VolumeFraction::normal_at(const LevelSet& level_set, const Eigen
   return g.normalized();
 }
 
-void VolumeFraction::keep_projected_faces(const MacGrid& mac,
-                                          const std::vector<grid::IndexBox>& sources) {
-  for (int a = 0; a < 3; ++a) m_faces[a] = mac.face_velocity(a);
-  m_faces_sources = sources;
+void VolumeFraction::faces_along(int axis, const MacGrid& mac, std::vector<double>& out) const {
+  out = mac.face_velocity(axis);
+  if (!m_faces_kept) return;
+  for (const auto& [face, u] : m_kept[axis]) out[face] = u;
+  for (const CutFace& cut : m_cut[axis])
+    out[cut.face] = cut.fraction * out[cut.face] + (1.0 - cut.fraction) * cut.shell_velocity;
 }
 
-void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, double dt,
-                            const std::vector<grid::IndexBox>& on,
-                            std::span<const std::uint8_t> cut) {
-  std::array<const std::vector<double>*, 3> u;
-  for (int a = 0; a < 3; ++a) u[a] = m_faces[a].empty() ? &mac.face_velocity(a) : &m_faces[a];
-  advect(u, level_set, dt, m_faces[0].empty() ? on : m_faces_sources, cut);
-}
-
-void VolumeFraction::save(sdk::StateWriter& out) const {
+void VolumeFraction::save(sdk::StateWriter& out, const MacGrid& mac) const {
   out.write_column(m_fraction.data(), static_cast<std::int64_t>(m_fraction.size()));
   out.write(m_steps);
   out.write(m_clipped_total);
-  out.write(!m_faces[0].empty());
-  if (m_faces[0].empty()) return;
-  for (const auto& u : m_faces) out.write_column(u.data(), static_cast<std::int64_t>(u.size()));
+  out.write(m_faces_kept);
+  if (!m_faces_kept) return;
+  std::vector<double> u;
+  for (int a = 0; a < 3; ++a) {
+    faces_along(a, mac, u);
+    out.write_column(u.data(), static_cast<std::int64_t>(u.size()));
+  }
   out.write(static_cast<std::int64_t>(m_faces_sources.size()));
   for (const grid::IndexBox& box : m_faces_sources)
     for (const Eigen::Vector3i* corner : {&box.lo, &box.hi})
       for (int a = 0; a < 3; ++a) out.write(static_cast<std::int64_t>((*corner)[a]));
 }
 
-void VolumeFraction::restore(sdk::StateReader& in) {
+void VolumeFraction::restore(sdk::StateReader& in, const MacGrid& mac) {
   const auto read = [&](std::vector<double>& v, std::int64_t size) {
     Eigen::VectorXd m;
     in.read_matrix(m);
@@ -214,11 +216,21 @@ void VolumeFraction::restore(sdk::StateReader& in) {
   m_steps = in.read<std::int64_t>();
   m_clipped_total = in.read<double>();
   m_faces_sources.clear();
-  if (!in.read<bool>()) {
-    for (auto& u : m_faces) u.clear();
-    return;
+  for (int a = 0; a < 3; ++a) {
+    m_kept[a].clear();
+    m_cut[a].clear();
   }
-  for (int a = 0; a < 3; ++a) read(m_faces[a], m_mac.size(face_location(a)));
+  m_faces_kept = in.read<bool>();
+  if (!m_faces_kept) return;
+  // Kept: where the saved faces differ from the restored MAC's (the same faces F moves with).
+  std::vector<double> saved;
+  for (int a = 0; a < 3; ++a) {
+    read(saved, m_mac.size(face_location(a)));
+    const auto& u = mac.face_velocity(a);
+    for (std::int64_t f = 0; f < static_cast<std::int64_t>(saved.size()); ++f)
+      if (std::bit_cast<std::uint64_t>(saved[f]) != std::bit_cast<std::uint64_t>(u[f]))
+        m_kept[a].push_back({f, saved[f]});
+  }
   const std::int64_t boxes = in.read<std::int64_t>();
   for (std::int64_t b = 0; b < boxes; ++b) {
     grid::IndexBox box;
@@ -228,18 +240,20 @@ void VolumeFraction::restore(sdk::StateReader& in) {
   }
 }
 
-void VolumeFraction::advect(const std::array<const std::vector<double>*, 3>& u,
-                            const LevelSet& level_set, double dt,
-                            const std::vector<grid::IndexBox>& sources,
+void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, double dt,
+                            const std::vector<grid::IndexBox>& on,
                             std::span<const std::uint8_t> cut) {
+  const std::vector<grid::IndexBox>& sources = m_faces_kept ? m_faces_sources : on;
   const std::int64_t step = m_steps++;
   m_stats = VolumeFractionStats{};
   // Weymouth and Yue's sweeps keep F in [0, 1] up to a Courant number of ½ per sweep: the
   // step is split to stay within it (the faces next to liquid cells carry the projection's
   // values, which may outrun the step's CFL speed where θ is small), up to kMostParts.
   double fastest = 0.0;
-  for (int a = 0; a < 3; ++a)
-    for (const double w : *u[a]) fastest = std::max(fastest, std::abs(w));
+  for (int a = 0; a < 3; ++a) {
+    faces_along(a, mac, m_axis_faces);
+    for (const double w : m_axis_faces) fastest = std::max(fastest, std::abs(w));
+  }
   const int parts = std::clamp(static_cast<int>(std::ceil(fastest * dt / m_mac.dx() / 0.5)), 1,
                                kMostParts);
   // The dilation term's cells: the liquid cells of φ^n, whose faces the projection made
@@ -251,18 +265,20 @@ void VolumeFraction::advect(const std::array<const std::vector<double>*, 3>& u,
   // In the liquid cells a shell cuts, where φ is left to the level set, F itself: φ may
   // read a film liquid there that F holds a tenth of, and a whole cell's dilation overdrew
   // it (any weight constant over the step adds up to nothing on divergence-free faces).
-  m_dilating.resize(count);
-  for (std::int64_t c = 0; c < count; ++c)
-    m_dilating[c] = phi[c] > 0.0 ? 0.0 : !cut.empty() && cut[c] != 0 ? m_fraction[c] : 1.0;
+  m_cut_weights.clear();
+  if (!cut.empty())
+    for (std::int64_t c = 0; c < count; ++c)
+      if (cut[c] != 0 && phi[c] <= 0.0) m_cut_weights.push_back({c, m_fraction[c]});
   m_in_source.assign(count, 0);
   for (const grid::IndexBox& box : sources)
     for (int k = box.lo.z(); k <= box.hi.z(); ++k)
       for (int j = box.lo.y(); j <= box.hi.y(); ++j)
         for (int i = box.lo.x(); i <= box.hi.x(); ++i) m_in_source[m_mac.index(Location::Cell, i, j, k)] = 1;
-  m_normal.assign(count, Eigen::Vector3d::Zero());
+  m_plane_of.assign(count, -1);
+  m_planes.clear();
   double clipped = 0.0, outflow = 0.0, dilated = 0.0, divergence = 0.0;
   for (int part = 0; part < parts; ++part) {
-    sweeps(u, level_set, dt / parts, step * 3 + part);
+    sweeps(mac, level_set, cut, dt / parts, step * 3 + part);
     clipped += m_stats.clipped;
     outflow += m_stats.outflow;
     dilated += m_stats.dilated;
@@ -276,8 +292,16 @@ void VolumeFraction::advect(const std::array<const std::vector<double>*, 3>& u,
   m_clipped_total += clipped;
 }
 
-void VolumeFraction::sweeps(const std::array<const std::vector<double>*, 3>& u,
-                            const LevelSet& level_set, double dt, std::int64_t order) {
+void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
+                            std::span<const std::uint8_t> cut, double dt, std::int64_t order) {
+  const auto& phi = level_set.phi();
+  const auto dilating = [&](std::int64_t c) {  // the dilation term's weight
+    if (phi[c] > 0.0) return 0.0;
+    if (cut.empty() || cut[c] == 0) return 1.0;
+    return std::lower_bound(m_cut_weights.begin(), m_cut_weights.end(), c,
+                            [](const auto& entry, std::int64_t cell) { return entry.first < cell; })
+        ->second;
+  };
   const Eigen::Vector3i n = m_mac.cells();
   const std::int64_t count = m_mac.size(Location::Cell);
   const double dx = m_mac.dx();
@@ -288,15 +312,22 @@ void VolumeFraction::sweeps(const std::array<const std::vector<double>*, 3>& u,
   double clipped = 0.0, outflow = 0.0, dilated = 0.0, divergence = 0.0;
   for (int pass = 0; pass < 3; ++pass) {
     const int a = order % 2 == 0 ? pass : 2 - pass;
-    const auto& w = *u[a];
+    faces_along(a, mac, m_axis_faces);
+    const auto& w = m_axis_faces;
     const Location loc = face_location(a);
     // Each cell F cuts now: its plane, the normal from φ^n (found once a cell is first cut).
-    m_height.resize(count);
+    const std::int64_t known = static_cast<std::int64_t>(m_planes.size());
+    for (std::int64_t c = 0; c < count; ++c)
+      if (m_plane_of[c] < 0 && mixed(m_fraction[c])) {
+        m_plane_of[c] = static_cast<std::int32_t>(m_planes.size());
+        m_planes.push_back({c, Eigen::Vector3d::Zero(), 0.0});
+      }
+    const std::int64_t planes = static_cast<std::int64_t>(m_planes.size());
 #pragma omp parallel for schedule(static)
-    for (std::int64_t c = 0; c < count; ++c) {
-      if (!mixed(m_fraction[c])) continue;
-      if (m_normal[c].isZero()) m_normal[c] = normal_at(level_set, m_mac.coordinates(Location::Cell, c));
-      m_height[c] = plane_height(m_normal[c], m_fraction[c]);
+    for (std::int64_t p = 0; p < planes; ++p) {
+      Plane& plane = m_planes[p];
+      if (p >= known) plane.normal = normal_at(level_set, m_mac.coordinates(Location::Cell, plane.cell));
+      if (mixed(m_fraction[plane.cell])) plane.height = plane_height(plane.normal, m_fraction[plane.cell]);
     }
     // The water each face carries this pass [cell volumes], + along the axis.
     m_carried.assign(m_mac.size(loc), 0.0);
@@ -324,7 +355,8 @@ void VolumeFraction::sweeps(const std::array<const std::vector<double>*, 3>& u,
           lo[a] = 0.5 - s;
         else
           hi[a] = -0.5 + s;
-        water = s * box_fraction_below(m_normal[d], m_height[d], lo, hi);
+        const Plane& plane = m_planes[m_plane_of[d]];
+        water = s * box_fraction_below(plane.normal, plane.height, lo, hi);
       }
       m_carried[f] = w[f] > 0.0 ? water : -water;
     }
@@ -354,8 +386,8 @@ void VolumeFraction::sweeps(const std::array<const std::vector<double>*, 3>& u,
           upper[a] += 1;
           const std::int64_t f_lo = m_mac.index(loc, ijk), f_hi = m_mac.index(loc, upper);
           double value = m_fraction[c] + m_carried[f_lo] - m_carried[f_hi];
-          if (m_dilating[c] != 0.0) {
-            const double dilation = m_dilating[c] * (w[f_hi] - w[f_lo]) * dt / dx;
+          if (const double weight = dilating(c); weight != 0.0) {
+            const double dilation = weight * (w[f_hi] - w[f_lo]) * dt / dx;
             value += dilation;
             (m_in_source[c] != 0 ? row_dil : row_div) += dilation;
           }
@@ -381,31 +413,31 @@ void VolumeFraction::sweeps(const std::array<const std::vector<double>*, 3>& u,
   m_stats.divergence = divergence * cell;
 }
 
-void VolumeFraction::fit(const LevelSet& level_set) {
+void VolumeFraction::fit(const LevelSet& level_set, std::vector<double>& scratch) {
   const auto& phi = level_set.phi();
   const double dx = m_mac.dx();
   const Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5), hi = Eigen::Vector3d::Constant(0.5);
-  m_corrected.resize(m_fraction.size());
+  scratch.resize(m_fraction.size());
   const std::int64_t count = m_mac.size(Location::Cell);
 #pragma omp parallel for schedule(static)
   for (std::int64_t c = 0; c < count; ++c) {
     if (std::abs(phi[c]) >= std::sqrt(3.0) * dx) {  // no plane through the centre cuts it
-      m_corrected[c] = phi[c] > 0.0 ? 0.0 : 1.0;
+      scratch[c] = phi[c] > 0.0 ? 0.0 : 1.0;
       continue;
     }
     const Eigen::Vector3d normal = normal_at(level_set, m_mac.coordinates(Location::Cell, c));
-    m_corrected[c] = box_fraction_below(normal, -phi[c] / dx, lo, hi);
+    scratch[c] = box_fraction_below(normal, -phi[c] / dx, lo, hi);
   }
-  m_fraction.swap(m_corrected);
+  m_fraction.swap(scratch);
 }
 
-void VolumeFraction::correct(LevelSet& level_set, bool signs_only,
+void VolumeFraction::correct(LevelSet& level_set, std::vector<double>& scratch, bool signs_only,
                              std::span<const std::uint8_t> left) {
   auto& phi = level_set.phi();
   const double dx = m_mac.dx();
   const std::int64_t count = m_mac.size(Location::Cell);
-  m_corrected = phi;
-  std::vector<double>& corrected = m_corrected;
+  scratch = phi;  // the normals read φ as it was
+  std::vector<double>& corrected = scratch;
   std::int64_t moved = 0, mixed = 0;
 #pragma omp parallel for schedule(static) reduction(+ : moved, mixed)
   for (std::int64_t c = 0; c < count; ++c) {

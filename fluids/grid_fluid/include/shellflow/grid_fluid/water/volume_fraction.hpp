@@ -54,19 +54,19 @@ class VolumeFraction {
   double volume() const;
   const VolumeFractionStats& stats() const { return m_stats; }
 
-  /// Before the velocity extrapolation: the projection's face velocities of `mac`, and the
-  /// cells of the emitters whose held faces they carry.
-  void keep_projected_faces(const MacGrid& mac, const std::vector<grid::IndexBox>& sources);
-  /// After it: the extrapolated values of the faces between two cells that are not liquid
-  /// (`liquid(cell)`: the projection's liquid cells), so that F moves with the projection's
-  /// divergence-free faces next to the water and with the extrapolated ones in the air.
+  /// Before the velocity extrapolation: the projection's values of the faces next to a
+  /// liquid cell (`liquid(cell)`: the projection's liquid cells) that the extrapolation
+  /// rewrites (`known[axis][face]` 0), and the cells of the emitters whose held faces they
+  /// carry. F moves with `mac`'s faces as the extrapolation leaves them but for those: the
+  /// projection's divergence-free faces next to the water, the extrapolated ones in the air.
   template <class Liquid>
-  void take_extrapolated_faces(const MacGrid& mac, Liquid&& liquid);
+  void keep_projected_faces(const MacGrid& mac,
+                            const std::array<std::vector<std::uint8_t>, 3>& known,
+                            Liquid&& liquid, const std::vector<grid::IndexBox>& sources);
   /// A face a shell cuts passes F through its open share `fraction`, the rest moving with
   /// the shell (`shell_velocity`): the flux the projection's faces balance (FaceApertures).
   void cut_face(int axis, std::int64_t face, double fraction, double shell_velocity) {
-    double& u = m_faces[axis][face];
-    u = fraction * u + (1.0 - fraction) * shell_velocity;
+    m_cut[axis].push_back({face, fraction, shell_velocity});
   }
   /// F over dt, the planes' normals from φ, with the faces kept since the last projection
   /// (before the first one, `mac`'s as they stand and the emitters `on` now); what the
@@ -76,10 +76,11 @@ class VolumeFraction {
   void advect(const MacGrid& mac, const LevelSet& level_set, double dt,
               const std::vector<grid::IndexBox>& on = {},
               std::span<const std::uint8_t> cut = {});
-  /// For a checkpoint: F, the faces it moves with next and their emitters, the steps, what
-  /// its lower bound raised.
-  void save(sdk::StateWriter& out) const;
-  void restore(sdk::StateReader& in);
+  /// For a checkpoint: F, the faces it moves with next (whole columns, `mac`'s with the
+  /// kept ones over them) and their emitters, the steps, what its lower bound raised.
+  /// restore() reads `mac`'s faces restored before it.
+  void save(sdk::StateWriter& out, const MacGrid& mac) const;
+  void restore(sdk::StateReader& in, const MacGrid& mac);
   /// Water [m^3] raised to F = 0 since the start (what F's lower bound made).
   double clipped_total() const { return m_clipped_total; }
   /// Unites the shape of signed distance `distance` [m] with the water in the MAC cells of
@@ -90,12 +91,14 @@ class VolumeFraction {
   /// (normal from φ); a cell F holds no water in made air, one it fills made water. With
   /// `signs_only`, only the cells whose side disagrees with F's (F ≥ ½ is water): after
   /// the reinitialisation, so that the next step's liquid cells are F's. The cells `left`
-  /// flags (one byte per cell, may be empty) keep their φ.
-  void correct(LevelSet& level_set, bool signs_only = false,
+  /// flags (one byte per cell, may be empty) keep their φ. `scratch` (any contents, left
+  /// holding the old φ) is where the new one is built.
+  void correct(LevelSet& level_set, std::vector<double>& scratch, bool signs_only = false,
                std::span<const std::uint8_t> left = {});
   /// F set to the planes correct() would put φ on (its inverse): the share of each cell
-  /// below the plane through φ at its centre, normal to φ's gradient.
-  void fit(const LevelSet& level_set);
+  /// below the plane through φ at its centre, normal to φ's gradient; built in `scratch`
+  /// as correct()'s φ is.
+  void fit(const LevelSet& level_set, std::vector<double>& scratch);
 
   /// The height d of the plane n·x = d (x from the centre of a unit cube, n a unit normal)
   /// below which the cube holds `fraction` of its volume.
@@ -106,12 +109,12 @@ class VolumeFraction {
                                    const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 
  private:
-  void advect(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
-              double dt, const std::vector<grid::IndexBox>& sources,
-              std::span<const std::uint8_t> cut);
+  /// The faces along `axis` that F moves with: `mac`'s, with the kept ones and the cut
+  /// faces' shares over them.
+  void faces_along(int axis, const MacGrid& mac, std::vector<double>& out) const;
   /// The three sweeps over dt (its Courant number at most ½), in the order `order` picks;
   /// sets m_stats' clipped, outflow, dilated and divergence for them.
-  void sweeps(const std::array<const std::vector<double>*, 3>& u, const LevelSet& level_set,
+  void sweeps(const MacGrid& mac, const LevelSet& level_set, std::span<const std::uint8_t> cut,
               double dt, std::int64_t order);
   /// The unit normal (towards the air) at cell c: φ's gradient by central differences
   /// (one-sided at the walls), or −∇F where φ is flat there.
@@ -119,34 +122,59 @@ class VolumeFraction {
 
   grid::UniformGrid m_mac;
   std::vector<double> m_fraction;
-  std::vector<double> m_dilating;  ///< the dilation term's weight: φ^n's liquid cells' (F^n
-                                   ///< in those a shell cuts, else 1), 0 elsewhere
+  /// The dilation term's weight is 1 in φ^n's liquid cells, 0 elsewhere, but F^n in the
+  /// liquid cells a shell cuts: these (cell, F^n), in cell order.
+  std::vector<std::pair<std::int64_t, double>> m_cut_weights;
   std::vector<std::uint8_t> m_in_source;  ///< the cells of the emitters that are on
-  std::vector<Eigen::Vector3d> m_normal;  ///< the planes' normals (zero: not yet cut)
-  std::vector<double> m_height;           ///< the planes' heights this pass
+  /// A cut cell's plane n·x = height (unit cube about its centre), n fixed for the step.
+  struct Plane {
+    std::int64_t cell;
+    Eigen::Vector3d normal;
+    double height;
+  };
+  std::vector<Plane> m_planes;  ///< the cells cut so far this step, in the order first cut
+  std::vector<std::int32_t> m_plane_of;  ///< each cell's entry in m_planes (−1: none yet)
   std::vector<double> m_carried;          ///< the water each face carries this pass
-  std::vector<double> m_corrected;        ///< correct()'s φ (fit()'s F) being built
   double m_clipped_total = 0.0;
-  std::array<std::vector<double>, 3> m_faces;  ///< what F moves with next (empty: none kept)
+  struct CutFace {
+    std::int64_t face;
+    double fraction, shell_velocity;
+  };
+  bool m_faces_kept = false;  ///< a projection's faces are kept (before the first, `mac`'s)
+  std::array<std::vector<std::pair<std::int64_t, double>>, 3> m_kept;  ///< (face, projected)
+  std::array<std::vector<CutFace>, 3> m_cut;  ///< the shells' cut faces since the projection
   std::vector<grid::IndexBox> m_faces_sources;  ///< the emitters whose held faces those are
+  std::vector<double> m_axis_faces;  ///< one axis's faces F moves with, this pass
   std::int64_t m_steps = 0;
   std::array<bool, 6> m_open{};
   VolumeFractionStats m_stats;
 };
 
 template <class Liquid>
-void VolumeFraction::take_extrapolated_faces(const MacGrid& mac, Liquid&& liquid) {
+void VolumeFraction::keep_projected_faces(const MacGrid& mac,
+                                          const std::array<std::vector<std::uint8_t>, 3>& known,
+                                          Liquid&& liquid,
+                                          const std::vector<grid::IndexBox>& sources) {
   const Eigen::Vector3i cells = m_mac.cells();
+  m_faces_kept = true;
+  m_faces_sources = sources;
   for (int a = 0; a < 3; ++a) {
     const grid::Location loc = face_location(a);
+    const Eigen::Vector3i n = m_mac.counts(loc);
     const auto& u = mac.face_velocity(a);
-    for (std::int64_t f = 0; f < m_mac.size(loc); ++f) {
-      Eigen::Vector3i c = m_mac.coordinates(loc, f);
-      bool wet = c[a] < cells[a] && liquid(m_mac.index(grid::Location::Cell, c));
-      c[a] -= 1;
-      wet = wet || (c[a] >= 0 && liquid(m_mac.index(grid::Location::Cell, c)));
-      if (!wet) m_faces[a][f] = u[f];
-    }
+    m_kept[a].clear();
+    m_cut[a].clear();
+    for (int k = 0; k < n.z(); ++k)
+      for (int j = 0; j < n.y(); ++j)
+        for (int i = 0; i < n.x(); ++i) {
+          const std::int64_t f = m_mac.index(loc, i, j, k);
+          if (known[a][f] != 0) continue;  // the extrapolation leaves it as it is
+          Eigen::Vector3i c(i, j, k);
+          bool wet = c[a] < cells[a] && liquid(m_mac.index(grid::Location::Cell, c));
+          c[a] -= 1;
+          wet = wet || (c[a] >= 0 && liquid(m_mac.index(grid::Location::Cell, c)));
+          if (wet) m_kept[a].push_back({f, u[f]});
+        }
   }
 }
 
