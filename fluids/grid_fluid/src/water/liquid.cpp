@@ -67,8 +67,11 @@ sdk::Schema Liquid::schema() {
                  "counted exactly, and a film thinner than a cell on a wall or a shell keeps "
                  "its water. Among shells F crosses a face a shell cuts through its open "
                  "share, and φ is left to the level set in the cells a shell cuts. With "
-                 "particles, they correct φ's shape and F still holds the volume. false: the "
-                 "level set alone, whose volume drifts (docs/water-cell-centres.md §5)"))
+                 "particles, they correct φ's shape and F still holds the volume. One F serves "
+                 "both sides of a cell a shell cuts: a light cloth moving through water lets "
+                 "F's water through and can gain energy, so scenes with cloth in water set it "
+                 "false until cut cells (docs/known-limits.md). false: the level set alone, "
+                 "whose volume drifts (docs/water-cell-centres.md §5)"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))

@@ -306,9 +306,6 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
   const std::int64_t count = m_mac.size(Location::Cell);
   const double dx = m_mac.dx();
   const auto mixed = [](double f) { return f > kFullOrEmpty && f < 1.0 - kFullOrEmpty; };
-  // Per row of cells (j, k), summed in order afterwards: the same bits on any thread count.
-  const std::int64_t rows = std::int64_t(n.y()) * n.z();
-  std::vector<double> row_clipped(rows), row_dilated(rows), row_divergence(rows);
   double clipped = 0.0, outflow = 0.0, dilated = 0.0, divergence = 0.0;
   for (int pass = 0; pass < 3; ++pass) {
     const int a = order % 2 == 0 ? pass : 2 - pass;
@@ -329,82 +326,87 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
       if (p >= known) plane.normal = normal_at(level_set, m_mac.coordinates(Location::Cell, plane.cell));
       if (mixed(m_fraction[plane.cell])) plane.height = plane_height(plane.normal, m_fraction[plane.cell]);
     }
-    // The water each face carries this pass [cell volumes], + along the axis.
-    m_carried.assign(m_mac.size(loc), 0.0);
-#pragma omp parallel for schedule(static)
-    for (std::int64_t f = 0; f < m_mac.size(loc); ++f) {
-      const Eigen::Vector3i ijk = m_mac.coordinates(loc, f);
-      // A side's face carries water out where it is open and its flow leaves; none comes in.
-      if (ijk[a] == 0 && !(m_open[2 * a] && w[f] < 0.0)) continue;
-      if (ijk[a] == n[a] && !(m_open[2 * a + 1] && w[f] > 0.0)) continue;
-      const double s = std::min(std::abs(w[f]) * dt / dx, 1.0);
-      if (s == 0.0) continue;
-      Eigen::Vector3i donor = ijk;
-      if (w[f] > 0.0) donor[a] -= 1;
-      const std::int64_t d = m_mac.index(Location::Cell, donor);
-      const double fraction = m_fraction[d];
-      double water;
-      if (fraction <= kFullOrEmpty) {
-        water = 0.0;
-      } else if (!mixed(fraction)) {
-        water = s * fraction;
-      } else {
-        // The donor's slab next to the face, below its plane.
-        Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5), hi = Eigen::Vector3d::Constant(0.5);
-        if (w[f] > 0.0)
-          lo[a] = 0.5 - s;
-        else
-          hi[a] = -0.5 + s;
-        const Plane& plane = m_planes[m_plane_of[d]];
-        water = s * box_fraction_below(plane.normal, plane.height, lo, hi);
-      }
-      m_carried[f] = w[f] > 0.0 ? water : -water;
-    }
-    // What leaves through the open sides: the faces of the two boundary planes.
-    for (int side = 0; side < 2; ++side) {
-      if (!m_open[2 * a + side]) continue;
-      const int b = (a + 1) % 3, c = (a + 2) % 3;
-      const double sign = side == 0 ? -1.0 : 1.0;  // m_carried is + along the axis
-      outflow += ordered_sum(std::int64_t(n[b]) * n[c], [&](std::int64_t r) {
-        Eigen::Vector3i face;
-        face[a] = side == 0 ? 0 : n[a];
-        face[b] = static_cast<int>(r % n[b]);
-        face[c] = static_cast<int>(r / n[b]);
-        return sign * m_carried[m_mac.index(loc, face)];
-      });
-    }
-    // F − (out − in) + c (u⁺ − u⁻) dt/Δx (Weymouth and Yue 2010, eq. 9).
-#pragma omp parallel for collapse(2) schedule(static)
-    for (int k = 0; k < n.z(); ++k)
-      for (int j = 0; j < n.y(); ++j) {
-        const std::int64_t row = j + std::int64_t(n.y()) * k;
-        double row_clip = 0.0, row_dil = 0.0, row_div = 0.0;
-        for (int i = 0; i < n.x(); ++i) {
-          const Eigen::Vector3i ijk(i, j, k);
-          const std::int64_t c = m_mac.index(Location::Cell, ijk);
-          Eigen::Vector3i upper = ijk;
-          upper[a] += 1;
-          const std::int64_t f_lo = m_mac.index(loc, ijk), f_hi = m_mac.index(loc, upper);
-          double value = m_fraction[c] + m_carried[f_lo] - m_carried[f_hi];
+    // A pass moves water along the lines of cells of axis a only, each on its own: per line,
+    // the water each of its faces carries (+ along the axis), then F − (out − in) +
+    // c (u⁺ − u⁻) dt/Δx (Weymouth and Yue 2010, eq. 9). A line with no water and no liquid
+    // cell carries nothing and has no dilation: it is left as it is. Per line, summed in
+    // order afterwards: the same bits on any thread count.
+    const int b = (a + 1) % 3, e = (a + 2) % 3;
+    const std::int64_t lines = std::int64_t(n[b]) * n[e];
+    m_line_sums.assign(4 * lines, 0.0);  // clipped, dilated, divergence, outflow per line
+#pragma omp parallel
+    {
+      std::vector<double> carried(n[a] + 1);
+#pragma omp for schedule(static)
+      for (std::int64_t line = 0; line < lines; ++line) {
+        Eigen::Vector3i ijk;
+        ijk[b] = static_cast<int>(line % n[b]);
+        ijk[e] = static_cast<int>(line / n[b]);
+        const auto cell_at = [&](int i) {
+          ijk[a] = i;
+          return m_mac.index(Location::Cell, ijk);
+        };
+        bool wet = false;
+        for (int i = 0; i < n[a] && !wet; ++i) {
+          const std::int64_t c = cell_at(i);
+          wet = m_fraction[c] > kFullOrEmpty || phi[c] <= 0.0;
+        }
+        if (!wet) continue;
+        for (int i = 0; i <= n[a]; ++i) {
+          carried[i] = 0.0;
+          ijk[a] = i;
+          const double u = w[m_mac.index(loc, ijk)];
+          // A side's face carries water out where it is open and its flow leaves; none
+          // comes in.
+          if (i == 0 && !(m_open[2 * a] && u < 0.0)) continue;
+          if (i == n[a] && !(m_open[2 * a + 1] && u > 0.0)) continue;
+          const double s = std::min(std::abs(u) * dt / dx, 1.0);
+          if (s == 0.0) continue;
+          const std::int64_t d = cell_at(u > 0.0 ? i - 1 : i);
+          const double fraction = m_fraction[d];
+          double water;
+          if (fraction <= kFullOrEmpty) {
+            water = 0.0;
+          } else if (!mixed(fraction)) {
+            water = s * fraction;
+          } else {
+            // The donor's slab next to the face, below its plane.
+            Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5), hi = Eigen::Vector3d::Constant(0.5);
+            if (u > 0.0)
+              lo[a] = 0.5 - s;
+            else
+              hi[a] = -0.5 + s;
+            const Plane& plane = m_planes[m_plane_of[d]];
+            water = s * box_fraction_below(plane.normal, plane.height, lo, hi);
+          }
+          carried[i] = u > 0.0 ? water : -water;
+        }
+        double* sums = &m_line_sums[4 * line];
+        sums[3] = (m_open[2 * a] ? -carried[0] : 0.0) + (m_open[2 * a + 1] ? carried[n[a]] : 0.0);
+        for (int i = 0; i < n[a]; ++i) {
+          const std::int64_t c = cell_at(i);
+          double value = m_fraction[c] + carried[i] - carried[i + 1];
           if (const double weight = dilating(c); weight != 0.0) {
-            const double dilation = weight * (w[f_hi] - w[f_lo]) * dt / dx;
+            ijk[a] = i;
+            const double u_lo = w[m_mac.index(loc, ijk)];
+            ijk[a] = i + 1;
+            const double dilation = weight * (w[m_mac.index(loc, ijk)] - u_lo) * dt / dx;
             value += dilation;
-            (m_in_source[c] != 0 ? row_dil : row_div) += dilation;
+            sums[m_in_source[c] != 0 ? 1 : 2] += dilation;
           }
           // Where the air's extrapolated faces converge a cell may take in more than it
           // holds: the excess stays in it (carried on with the flux of a full cell) rather
           // than being lost. Below zero there is nothing to carry.
           const double kept = std::max(value, 0.0);
-          row_clip += kept - value;
+          sums[0] += kept - value;
           m_fraction[c] = kept;
         }
-        row_clipped[row] = row_clip;
-        row_dilated[row] = row_dil;
-        row_divergence[row] = row_div;
       }
-    clipped += ordered_sum(rows, [&](std::int64_t r) { return row_clipped[r]; });
-    dilated += ordered_sum(rows, [&](std::int64_t r) { return row_dilated[r]; });
-    divergence += ordered_sum(rows, [&](std::int64_t r) { return row_divergence[r]; });
+    }
+    clipped += ordered_sum(lines, [&](std::int64_t l) { return m_line_sums[4 * l]; });
+    dilated += ordered_sum(lines, [&](std::int64_t l) { return m_line_sums[4 * l + 1]; });
+    divergence += ordered_sum(lines, [&](std::int64_t l) { return m_line_sums[4 * l + 2]; });
+    outflow += ordered_sum(lines, [&](std::int64_t l) { return m_line_sums[4 * l + 3]; });
   }
   const double cell = dx * dx * dx;
   m_stats.clipped = clipped * cell;

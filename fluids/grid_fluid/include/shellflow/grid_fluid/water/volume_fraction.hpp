@@ -134,7 +134,7 @@ class VolumeFraction {
   };
   std::vector<Plane> m_planes;  ///< the cells cut so far this step, in the order first cut
   std::vector<std::int32_t> m_plane_of;  ///< each cell's entry in m_planes (−1: none yet)
-  std::vector<double> m_carried;          ///< the water each face carries this pass
+  std::vector<double> m_line_sums;  ///< per line of a pass: clipped, dilated, divergence, out
   double m_clipped_total = 0.0;
   struct CutFace {
     std::int64_t face;
