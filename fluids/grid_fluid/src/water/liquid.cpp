@@ -557,12 +557,14 @@ void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& sh
   m_stats.reinitialization =
       m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
   m_stats.t_reinitialize = seconds_since(start);
-  if (m_fraction.enabled()) m_fraction.correct(m_level_set, m_scratch, /*signs_only=*/true, m_cut_cells);
   m_particles.correct(m_level_set, shells);
   m_particles.adjust(m_level_set, shells);
   for (const grid::IndexBox& box : m_emitting) m_particles.top_up(m_level_set, shells, box);
   m_particles.reseed_if_due(t_end, m_level_set, shells);
   m_stats.particles = m_particles.stats();
+  // Last, so that the next step's liquid cells are F's whatever the particles made of φ: a
+  // cell they made water with no F in it had its faces' outflow clipped (water made).
+  if (m_fraction.enabled()) m_fraction.correct(m_level_set, m_scratch, /*signs_only=*/true, m_cut_cells);
   if (m_by_phase) {
     end_phase(m_phase_drift.reinitialization, &shells);
     // What the budget counted this step (emitters, open sides) is no drift.
