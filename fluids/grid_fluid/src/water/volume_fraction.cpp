@@ -466,8 +466,11 @@ void VolumeFraction::correct(LevelSet& level_set, std::vector<double>& scratch, 
     ++moved;
   }
   phi.swap(corrected);
-  const double excess = ordered_sum(count, [&](std::int64_t c) { return std::max(m_fraction[c] - 1.0, 0.0); });
-  m_stats.excess = excess * dx * dx * dx;
+  if (signs_only) {  // the step's last correction: what F holds beyond full, after the step
+    const double excess =
+        ordered_sum(count, [&](std::int64_t c) { return std::max(m_fraction[c] - 1.0, 0.0); });
+    m_stats.excess = excess * dx * dx * dx;
+  }
   m_stats.mixed_cells = mixed;
   m_stats.moved_cells += moved;
 }

@@ -164,8 +164,10 @@ void VolumeFraction::keep_projected_faces(const MacGrid& mac,
     const grid::Location loc = face_location(a);
     const Eigen::Vector3i n = m_mac.counts(loc);
     const auto& u = mac.face_velocity(a);
-    m_kept[a].clear();
     m_cut[a].clear();
+    // Per plane of faces k, then joined in order: the same list on any thread count.
+    std::vector<std::vector<std::pair<std::int64_t, double>>> planes(n.z());
+#pragma omp parallel for schedule(static)
     for (int k = 0; k < n.z(); ++k)
       for (int j = 0; j < n.y(); ++j)
         for (int i = 0; i < n.x(); ++i) {
@@ -175,8 +177,10 @@ void VolumeFraction::keep_projected_faces(const MacGrid& mac,
           bool wet = c[a] < cells[a] && liquid(m_mac.index(grid::Location::Cell, c));
           c[a] -= 1;
           wet = wet || (c[a] >= 0 && liquid(m_mac.index(grid::Location::Cell, c)));
-          if (wet) m_kept[a].push_back({f, u[f]});
+          if (wet) planes[k].push_back({f, u[f]});
         }
+    m_kept[a].clear();
+    for (const auto& plane : planes) m_kept[a].insert(m_kept[a].end(), plane.begin(), plane.end());
   }
 }
 
