@@ -269,10 +269,7 @@ void Liquid::settle_among_shells(const ShellGeometry& shells, const geometry::Sh
     if (band != nullptr) forget_faces_on_shells(shells, *band);
     m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
     m_particles.seed(m_level_set, shells);  // about that φ, and kept off the shells
-    if (m_fraction.enabled()) {  // and F from it, but where a shell cuts a cell
-      mark_cut_cells(shells, band);
-      m_fraction.fit(m_level_set, m_scratch, m_cut_cells);
-    }
+    if (m_fraction.enabled()) m_fraction.fit(m_level_set, m_scratch);  // and F from it
   }
   std::vector<double>().swap(m_built);
 }

@@ -415,8 +415,7 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
   m_stats.divergence = divergence * cell;
 }
 
-void VolumeFraction::fit(const LevelSet& level_set, std::vector<double>& scratch,
-                         std::span<const std::uint8_t> left) {
+void VolumeFraction::fit(const LevelSet& level_set, std::vector<double>& scratch) {
   const auto& phi = level_set.phi();
   const double dx = m_mac.dx();
   const Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5), hi = Eigen::Vector3d::Constant(0.5);
@@ -424,10 +423,6 @@ void VolumeFraction::fit(const LevelSet& level_set, std::vector<double>& scratch
   const std::int64_t count = m_mac.size(Location::Cell);
 #pragma omp parallel for schedule(static)
   for (std::int64_t c = 0; c < count; ++c) {
-    if (!left.empty() && left[c] != 0) {
-      scratch[c] = m_fraction[c];
-      continue;
-    }
     if (std::abs(phi[c]) >= std::sqrt(3.0) * dx) {  // no plane through the centre cuts it
       scratch[c] = phi[c] > 0.0 ? 0.0 : 1.0;
       continue;

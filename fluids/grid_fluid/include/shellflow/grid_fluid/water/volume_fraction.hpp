@@ -97,10 +97,8 @@ class VolumeFraction {
                std::span<const std::uint8_t> left = {});
   /// F set to the planes correct() would put φ on (its inverse): the share of each cell
   /// below the plane through φ at its centre, normal to φ's gradient; built in `scratch`
-  /// as correct()'s φ is. The cells `left` flags (one byte per cell, may be empty) keep
-  /// their F.
-  void fit(const LevelSet& level_set, std::vector<double>& scratch,
-           std::span<const std::uint8_t> left = {});
+  /// as correct()'s φ is.
+  void fit(const LevelSet& level_set, std::vector<double>& scratch);
 
   /// The height d of the plane n·x = d (x from the centre of a unit cube, n a unit normal)
   /// below which the cube holds `fraction` of its volume.
