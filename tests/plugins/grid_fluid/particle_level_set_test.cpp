@@ -67,12 +67,11 @@ Revolution one_revolution(int cells, int per_cell, const char* advection = "semi
   const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 100.0 / cells,
                                Eigen::Vector3i::Constant(cells));
   // A revolution is 100 frames: reseeded every 10 (the paper's scenes), ten times a turn.
-  auto liquid =
-      make_liquid({{"level_set", "nodes"},
-                   {"volume_fraction", false},
-                   {"particles", {{"per_cell", per_cell}}},
-                   {"advection", advection}},
-                  grid, 100.0 / Zalesak::kPeriod);
+  auto liquid = make_liquid({{"level_set", "nodes"},
+                             {"volume_fraction", false},
+                             {"particles", {{"per_cell", per_cell}}},
+                             {"advection", advection}},
+                            grid, 100.0 / Zalesak::kPeriod);
   auto& phi = liquid->level_set().phi();
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i)
     phi[i] = slotted ? Zalesak::phi(grid.position(Location::Node, i))
@@ -160,7 +159,7 @@ nlohmann::json dam_params(double water_x, double height = 0.8) {
 /// What a run of the thin-wall dam saw on the plate's dry side, worst over its steps.
 struct DamRun {
   int water_particles_beyond = 0;  ///< water particles with x beyond the plate
-  int wet_samples_beyond = 0;        ///< φ samples <= 0 more than Δx beyond it
+  int wet_samples_beyond = 0;      ///< φ samples <= 0 more than Δx beyond it
   int water_particles_near = 0;    ///< water particles within Δx before it (not vacuous)
 };
 

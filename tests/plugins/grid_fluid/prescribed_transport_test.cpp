@@ -146,8 +146,8 @@ TEST(PrescribedVelocity, SubtractedBoxCutsZalesaksSlot) {
     const double e = exact(p);
     if (std::abs(e) > 0.5 * dx && (e < 0.0) != (phi[i] < 0.0)) ++wrong;
     // Samples in the slot inside the sphere's ball: air only because of the subtraction.
-    if ((p - Eigen::Vector3d(50, 75, 50)).norm() < 14.0 && std::abs(p.x() - 50.0) < 2.5 - 0.25 * dx &&
-        p.y() < 72.0)
+    if ((p - Eigen::Vector3d(50, 75, 50)).norm() < 14.0 &&
+        std::abs(p.x() - 50.0) < 2.5 - 0.25 * dx && p.y() < 72.0)
       slot_air += phi[i] > 0.0 ? 1 : 0;
   }
   EXPECT_EQ(wrong, 0);

@@ -311,14 +311,15 @@ FilmRun film_run(int cells, double thickness, int per_cell) {
   const Eigen::Vector3d c(0.5, 0.5 + 0.3 * dx, 0.5);
   const Eigen::Vector3d n = tilt() * Eigen::Vector3d::UnitY();
   const double period = 4.0;
-  auto fluid = test::make_fluid({{"resolution", cells},
-                                 {"water", test::water_core("nodes", {{"particles", {{"per_cell", per_cell}}}})},
-                                 {"prescribed_velocity",
-                                  {{"type", "rigid_rotation"},
-                                   {"center", {c.x(), c.y(), c.z()}},
-                                   {"axis", {n.x(), n.y(), n.z()}},
-                                   {"period", period}}}},
-                                Eigen::Vector3d::Zero());
+  auto fluid = test::make_fluid(
+      {{"resolution", cells},
+       {"water", test::water_core("nodes", {{"particles", {{"per_cell", per_cell}}}})},
+       {"prescribed_velocity",
+        {{"type", "rigid_rotation"},
+         {"center", {c.x(), c.y(), c.z()}},
+         {"axis", {n.x(), n.y(), n.z()}},
+         {"period", period}}}},
+      Eigen::Vector3d::Zero());
   // The film's exact signed distance on its side of the plate: a box 0.3 × t × 0.3 in the
   // plate's frame, 0.2 m from the turn's axis, its underside on the plate (so that side's φ
   // is the distance to its top and edges, continuing through the plate); beneath the plate

@@ -225,11 +225,10 @@ TEST(VolumeBudget, ThePhasesDriftsAddUpToTheDrift) {
   auto carried = test::make_fluid(
       {{"resolution", 16},
        {"water",
-        test::water_core("nodes",
-                         {{"volume_by_phase", true},
-                          {"initial", {{{"type", "sphere"},
-                                        {"center", {0.35, 0.35, 0.35}},
-                                        {"radius", 0.15}}}}})},
+        test::water_core(
+            "nodes", {{"volume_by_phase", true},
+                      {"initial",
+                       {{{"type", "sphere"}, {"center", {0.35, 0.35, 0.35}}, {"radius", 0.15}}}}})},
        {"prescribed_velocity", {{"type", "deformation"}, {"period", 3.0}}}},
       Eigen::Vector3d::Zero());
   run_for(*carried, 0.3);
@@ -283,9 +282,10 @@ TEST(VolumeBudget, LostWaterIsWarnedOfAsItPassesEachLevel) {
   auto fluid = test::make_fluid(
       {{"resolution", 16},
        {"water",  // the level set alone, which loses such a drop
-        test::water_core("cells", {{"initial", {{{"type", "sphere"},
-                                                  {"center", {0.5, 0.6, 0.5}},
-                                                  {"radius", 0.9 * dx}}}}})}});
+        test::water_core(
+            "cells",
+            {{"initial",
+              {{{"type", "sphere"}, {"center", {0.5, 0.6, 0.5}}, {"radius", 0.9 * dx}}}}})}});
   const double largest = run_reporting(*fluid, 0.6);
   const std::vector<std::string> warned = drift_warnings(log);
   std::printf("[  figure  ] a drop 0.9 of a cell in radius: largest drift %.1f %%, %zu warnings\n",

@@ -235,7 +235,8 @@ TEST(WaterCup, TheWaterStandingInTheCupIsReadWhereverTheCupStands) {
   // answer is the polygon's section times the depth. The cells by the bottom's rim are cut
   // by the wall and the bottom; read by the plane of whichever was nearer their centre,
   // each read up to half a cell off, and the reading jumped as the cup moved.
-  const auto fluid = test::make_fluid(cup_params(test::water_core("cells", nlohmann::json::object())));
+  const auto fluid =
+      test::make_fluid(cup_params(test::water_core("cells", nlohmann::json::object())));
   const grid::UniformGrid& grid = fluid->grid();
   const double dx = grid.dx(), band_depth = fluid->liquid()->level_set().band();
   const double apothem = kRadius * std::cos(std::numbers::pi / kCupSegments);

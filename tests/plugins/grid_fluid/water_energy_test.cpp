@@ -239,9 +239,10 @@ TEST(WaterEnergy, AClosedTankGainsNoEnergyBeyondTheExplicitStep) {
   // core reached 10.5 m/s in a 0.55 m column's collapse).
   const auto check = [](const char* what, GridFluid& f, double top, double height) {
     const EnergyRun run = energy_run(f, 1.5, top);
-    std::printf("[  figure  ] %s: K + P at most %+.4f J above its start (bound %.4f J), fastest "
-                "liquid face %.2f m/s\n",
-                what, run.rise, run.bound, run.fastest);
+    std::printf(
+        "[  figure  ] %s: K + P at most %+.4f J above its start (bound %.4f J), fastest "
+        "liquid face %.2f m/s\n",
+        what, run.rise, run.bound, run.fastest);
     EXPECT_LE(run.rise, run.bound) << what;
     EXPECT_LT(run.fastest, 3.0 * std::sqrt(2.0 * kG * height)) << what;
   };
@@ -250,7 +251,8 @@ TEST(WaterEnergy, AClosedTankGainsNoEnergyBeyondTheExplicitStep) {
       1e-6));
   check("column collapsing", *column, 0.5, 1.0);
   auto box = test::make_fluid(water_params(
-      32, {{"initial", {{{"type", "box"}, {"min", {0.15, 0.4, 0.15}}, {"max", {0.35, 0.6, 0.35}}}}}},
+      32,
+      {{"initial", {{{"type", "box"}, {"min", {0.15, 0.4, 0.15}}, {"max", {0.35, 0.6, 0.35}}}}}},
       1e-6, {{"min", {0, 0, 0}}, {"max", {0.5, 1.0, 0.5}}}));
   check("box dropped on a dry floor", *box, 0.6, 1.0);
 }

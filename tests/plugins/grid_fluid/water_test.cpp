@@ -370,8 +370,9 @@ TEST(Water, ALayerFallingOntoAShelfWithAirBeneathStaysOnIt) {
   // still hold the air's φ and must not make them p = 0 sinks (they did: the layer lost
   // two thirds of its volume, its top ending at 0.34).
   auto fluid = test::make_fluid(water_params(
-      16, test::water_core("nodes", {{"initial", {{{"type", "box"}, {"min", {-1, 0.395, -1}},
-                                                   {"max", {2, 0.6, 2}}}}}})));
+      16, test::water_core(
+              "nodes",
+              {{"initial", {{{"type", "box"}, {"min", {-1, 0.395, -1}}, {"max", {2, 0.6, 2}}}}}})));
   const auto shelf = test::make_plate({0.5, 0.27, 0.5}, Eigen::Vector3d::UnitY(), 1.2, 9);
   const std::vector<sdk::ShellSurface> shells{shelf};
   const std::vector<sdk::Positions> v_eff{shelf.velocities};

@@ -564,7 +564,8 @@ void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& sh
   m_stats.particles = m_particles.stats();
   // Last, so that the next step's liquid cells are F's whatever the particles made of φ: a
   // cell they made water with no F in it had its faces' outflow clipped (water made).
-  if (m_fraction.enabled()) m_fraction.correct(m_level_set, m_scratch, /*signs_only=*/true, m_cut_cells);
+  if (m_fraction.enabled())
+    m_fraction.correct(m_level_set, m_scratch, /*signs_only=*/true, m_cut_cells);
   if (m_by_phase) {
     end_phase(m_phase_drift.reinitialization, &shells);
     // What the budget counted this step (emitters, open sides) is no drift.

@@ -323,8 +323,10 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = 0; p < planes; ++p) {
       Plane& plane = m_planes[p];
-      if (p >= known) plane.normal = normal_at(level_set, m_mac.coordinates(Location::Cell, plane.cell));
-      if (mixed(m_fraction[plane.cell])) plane.height = plane_height(plane.normal, m_fraction[plane.cell]);
+      if (p >= known)
+        plane.normal = normal_at(level_set, m_mac.coordinates(Location::Cell, plane.cell));
+      if (mixed(m_fraction[plane.cell]))
+        plane.height = plane_height(plane.normal, m_fraction[plane.cell]);
     }
     // A pass moves water along the lines of cells of axis a only, each on its own: per line,
     // the water each of its faces carries (+ along the axis), then F − (out − in) +
@@ -371,7 +373,8 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
             water = s * fraction;
           } else {
             // The donor's slab next to the face, below its plane.
-            Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5), hi = Eigen::Vector3d::Constant(0.5);
+            Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5),
+                            hi = Eigen::Vector3d::Constant(0.5);
             if (u > 0.0)
               lo[a] = 0.5 - s;
             else

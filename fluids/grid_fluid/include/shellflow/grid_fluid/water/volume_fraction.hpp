@@ -61,8 +61,8 @@ class VolumeFraction {
   /// projection's divergence-free faces next to the water, the extrapolated ones in the air.
   template <class Liquid>
   void keep_projected_faces(const MacGrid& mac,
-                            const std::array<std::vector<std::uint8_t>, 3>& known,
-                            Liquid&& liquid, const std::vector<grid::IndexBox>& sources);
+                            const std::array<std::vector<std::uint8_t>, 3>& known, Liquid&& liquid,
+                            const std::vector<grid::IndexBox>& sources);
   /// A face a shell cuts passes F through its open share `fraction`, the rest moving with
   /// the shell (`shell_velocity`): the flux the projection's faces balance (FaceApertures).
   void cut_face(int axis, std::int64_t face, double fraction, double shell_velocity) {
@@ -132,9 +132,9 @@ class VolumeFraction {
     Eigen::Vector3d normal;
     double height;
   };
-  std::vector<Plane> m_planes;  ///< the cells cut so far this step, in the order first cut
+  std::vector<Plane> m_planes;           ///< the cells cut so far this step, in the order first cut
   std::vector<std::int32_t> m_plane_of;  ///< each cell's entry in m_planes (−1: none yet)
-  std::vector<double> m_line_sums;  ///< per line of a pass: clipped, dilated, divergence, out
+  std::vector<double> m_line_sums;       ///< per line of a pass: clipped, dilated, divergence, out
   double m_clipped_total = 0.0;
   struct CutFace {
     std::int64_t face;
@@ -142,9 +142,9 @@ class VolumeFraction {
   };
   bool m_faces_kept = false;  ///< a projection's faces are kept (before the first, `mac`'s)
   std::array<std::vector<std::pair<std::int64_t, double>>, 3> m_kept;  ///< (face, projected)
-  std::array<std::vector<CutFace>, 3> m_cut;  ///< the shells' cut faces since the projection
+  std::array<std::vector<CutFace>, 3> m_cut;    ///< the shells' cut faces since the projection
   std::vector<grid::IndexBox> m_faces_sources;  ///< the emitters whose held faces those are
-  std::vector<double> m_axis_faces;  ///< one axis's faces F moves with, this pass
+  std::vector<double> m_axis_faces;             ///< one axis's faces F moves with, this pass
   std::int64_t m_steps = 0;
   std::array<bool, 6> m_open{};
   VolumeFractionStats m_stats;
