@@ -203,13 +203,12 @@ struct EnergyRun {
   double rise = 0.0, bound = 0.0, fastest = 0.0;
 };
 EnergyRun energy_run(GridFluid& f, double until, double top) {
-  // The start's K + P (K = 0): P as water_energy writes it, −ρ Σ F Δx³ g·x at the centres.
+  // The start's K + P (K = 0), as the run reports it: F's water at the cells' centres.
   const double dx = f.grid().dx();
-  const auto& fraction = f.liquid()->fraction().values();
-  double e0 = 0.0;
-  for (std::int64_t c = 0; c < static_cast<std::int64_t>(fraction.size()); ++c)
-    e0 += kRho * kG * fraction[c] * dx * dx * dx * f.grid().position(Location::Cell, c).y();
-  const double m = kRho * f.liquid()->volume(nullptr, nullptr);
+  const WaterEnergy start =
+      water_energy(f.mac(), FreeSurface{f.liquid()->level_set().phi(), true}, kRho,
+                   Eigen::Vector3d(0, -kG, 0), f.liquid()->fraction().values());
+  const double e0 = start.kinetic + start.potential, m = start.mass;
   EnergyRun run;
   // φ and F move with u^n while u gains g Δt after them (explicit in position): a free fall
   // gains ½ m g² Σ Δt² over its steps (the slab's exact figure), and no water falls freely

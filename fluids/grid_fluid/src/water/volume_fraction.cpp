@@ -269,16 +269,11 @@ void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, doubl
   if (!cut.empty())
     for (std::int64_t c = 0; c < count; ++c)
       if (cut[c] != 0 && phi[c] <= 0.0) m_cut_weights.push_back({c, m_fraction[c]});
-  m_in_source.assign(count, 0);
-  for (const grid::IndexBox& box : sources)
-    for (int k = box.lo.z(); k <= box.hi.z(); ++k)
-      for (int j = box.lo.y(); j <= box.hi.y(); ++j)
-        for (int i = box.lo.x(); i <= box.hi.x(); ++i) m_in_source[m_mac.index(Location::Cell, i, j, k)] = 1;
   m_plane_of.assign(count, -1);
   m_planes.clear();
   double clipped = 0.0, outflow = 0.0, dilated = 0.0, divergence = 0.0;
   for (int part = 0; part < parts; ++part) {
-    sweeps(mac, level_set, cut, dt / parts, step * 3 + part);
+    sweeps(mac, level_set, cut, sources, dt / parts, step * 3 + part);
     clipped += m_stats.clipped;
     outflow += m_stats.outflow;
     dilated += m_stats.dilated;
@@ -293,7 +288,9 @@ void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, doubl
 }
 
 void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
-                            std::span<const std::uint8_t> cut, double dt, std::int64_t order) {
+                            std::span<const std::uint8_t> cut,
+                            const std::vector<grid::IndexBox>& sources, double dt,
+                            std::int64_t order) {
   const auto& phi = level_set.phi();
   const auto dilating = [&](std::int64_t c) {  // the dilation term's weight
     if (phi[c] > 0.0) return 0.0;
@@ -395,7 +392,10 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
             ijk[a] = i + 1;
             const double dilation = weight * (w[m_mac.index(loc, ijk)] - u_lo) * dt / dx;
             value += dilation;
-            sums[m_in_source[c] != 0 ? 1 : 2] += dilation;
+            ijk[a] = i;
+            const bool emitting = std::any_of(sources.begin(), sources.end(),
+                                              [&](const grid::IndexBox& box) { return box.contains(ijk); });
+            sums[emitting ? 1 : 2] += dilation;
           }
           // Where the air's extrapolated faces converge a cell may take in more than it
           // holds: the excess stays in it (carried on with the flux of a full cell) rather

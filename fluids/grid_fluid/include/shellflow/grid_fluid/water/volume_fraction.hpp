@@ -113,9 +113,10 @@ class VolumeFraction {
   /// faces' shares over them.
   void faces_along(int axis, const MacGrid& mac, std::vector<double>& out) const;
   /// The three sweeps over dt (its Courant number at most ½), in the order `order` picks;
-  /// sets m_stats' clipped, outflow, dilated and divergence for them.
+  /// sets m_stats' clipped, outflow, dilated and divergence for them. `sources`: the cells of
+  /// the emitters whose held faces the faces carry (their dilation is added water).
   void sweeps(const MacGrid& mac, const LevelSet& level_set, std::span<const std::uint8_t> cut,
-              double dt, std::int64_t order);
+              const std::vector<grid::IndexBox>& sources, double dt, std::int64_t order);
   /// The unit normal (towards the air) at cell c: φ's gradient by central differences
   /// (one-sided at the walls), or −∇F where φ is flat there.
   Eigen::Vector3d normal_at(const LevelSet& level_set, const Eigen::Vector3i& c) const;
@@ -125,7 +126,6 @@ class VolumeFraction {
   /// The dilation term's weight is 1 in φ^n's liquid cells, 0 elsewhere, but F^n in the
   /// liquid cells a shell cuts: these (cell, F^n), in cell order.
   std::vector<std::pair<std::int64_t, double>> m_cut_weights;
-  std::vector<std::uint8_t> m_in_source;  ///< the cells of the emitters that are on
   /// A cut cell's plane n·x = height (unit cube about its centre), n fixed for the step.
   struct Plane {
     std::int64_t cell;
