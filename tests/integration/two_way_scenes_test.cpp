@@ -314,10 +314,9 @@ TEST_F(TwoWayScenesSlow, ALightCurtainInAWaterJetIsPushedAndTheWaterKept) {
       "[  figure  ] curtain in a water jet, 0.6 s at CFL 0.7, 0.8, 0.9, 1.0: water against "
       "what the emitter gave, fastest cloth node: %s\n",
       figures.c_str());
-  // Measured on cells −26.4, −23.3, −26.8 and −24.5 % (on the nodes −10.9, −10.5, −22.2 and
-  // −22.6 %): the jet is 4 cells across, and in flight the level set alone loses some of it
-  // (−15 % at 0.12 s on the nodes, before the jet reaches the cloth). With the pull, −40 %.
-  // The bounds: the worst and the mean as measured and half again.
+  // The jet is 4 cells across, and in flight the level set alone loses some of it (figures:
+  // docs/known-limits.md, "A jet that lands"). The bounds: the worst and the mean loss
+  // measured on cells and half again.
   EXPECT_LT(worst, 0.40);
   EXPECT_LT(mean, 0.38);
   // The jet's water moves at 4 m/s; a cloth it pushes moves no faster than that water, save
