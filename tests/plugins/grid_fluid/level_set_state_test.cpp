@@ -18,16 +18,15 @@
 namespace shellflow::grid_fluid {
 namespace {
 
-/// A box of water falling in a 8 x 16 x 8 tank, φ on `layout` ("nodes" or "cells").
-std::unique_ptr<GridFluid> falling_box(const std::string& layout, bool fraction = false) {
+/// A box of water falling in a 8 x 16 x 8 tank on `core` (test::water_core's).
+std::unique_ptr<GridFluid> falling_box(const std::string& core) {
   return test::make_fluid(
       {{"resolution", 16},
        {"domain", {{"min", {0.0, 0.0, 0.0}}, {"max", {0.5, 1.0, 0.5}}}},
        {"water",
-        {{"level_set", layout},
-         {"volume_fraction", fraction},
-         {"initial",
-          {{{"type", "box"}, {"min", {0.15, 0.4, 0.15}}, {"max", {0.35, 0.6, 0.35}}}}}}}});
+        test::water_core(core, {{"initial", {{{"type", "box"},
+                                              {"min", {0.15, 0.4, 0.15}},
+                                              {"max", {0.35, 0.6, 0.35}}}}}})}});
 }
 
 void step(GridFluid& fluid, double t) {
@@ -101,13 +100,13 @@ TEST(WaterCheckpoint, AVolumeFractionSceneRestoresBitForBit) {
   // F, the faces it moves with next and its sweeps' order are state too: a step from the
   // restored state repeats the saved one's exactly, through the landing (0.29 s). An odd
   // number of steps first, so that the sweeps' order differs from a fresh fluid's.
-  auto fluid = falling_box("cells", true);
+  auto fluid = falling_box("fraction");
   for (int s = 0; s < 29; ++s) step(*fluid, 0.01 * s);
   const sdk::StateBuffer state = saved_state(*fluid);
   step(*fluid, 0.29);
   const std::vector<double> fraction = fluid->liquid()->fraction().values();
   const std::vector<double> phi = fluid->liquid()->level_set().phi();
-  auto other = falling_box("cells", true);
+  auto other = falling_box("fraction");
   ASSERT_NE(fraction, other->liquid()->fraction().values());  // not vacuous
   sdk::StateReader in(state);
   other->restore(in);
@@ -134,12 +133,12 @@ TEST(WaterCheckpoint, AVolumeFractionAmongShellsRestoresBitForBit) {
     f.advect(t, 0.01, shelf, shelf);
     f.project(0.01, shelf, v_eff);
   };
-  auto fluid = falling_box("cells", true);
+  auto fluid = falling_box("fraction");
   for (int s = 0; s < 29; ++s) shelf_step(*fluid, 0.01 * s);
   const sdk::StateBuffer state = saved_state(*fluid);
   shelf_step(*fluid, 0.29);
   const std::vector<double> fraction = fluid->liquid()->fraction().values();
-  auto other = falling_box("cells", true);
+  auto other = falling_box("fraction");
   sdk::StateReader in(state);
   other->restore(in);
   shelf_step(*other, 0.29);

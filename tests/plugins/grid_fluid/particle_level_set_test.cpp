@@ -67,11 +67,9 @@ Revolution one_revolution(int cells, int per_cell, const char* advection = "semi
   const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 100.0 / cells,
                                Eigen::Vector3i::Constant(cells));
   // A revolution is 100 frames: reseeded every 10 (the paper's scenes), ten times a turn.
-  auto liquid = make_liquid({{"level_set", "nodes"},
-                             {"volume_fraction", false},
-                             {"particles", {{"per_cell", per_cell}}},
-                             {"advection", advection}},
-                            grid, 100.0 / Zalesak::kPeriod);
+  auto liquid = make_liquid(
+      test::water_core("nodes", {{"particles", {{"per_cell", per_cell}}}, {"advection", advection}}),
+      grid, 100.0 / Zalesak::kPeriod);
   auto& phi = liquid->level_set().phi();
   for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i)
     phi[i] = slotted ? Zalesak::phi(grid.position(Location::Node, i))

@@ -26,8 +26,7 @@ using grid::Location;
 nlohmann::json scene(const std::string& layout, nlohmann::json water, int resolution,
                      nlohmann::json boundary = nlohmann::json::object(),
                      nlohmann::json domain = {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}}) {
-  water["level_set"] = layout;
-  water["volume_fraction"] = false;  // the level set's own budget
+  water = test::water_core(layout, std::move(water));  // the level set's own budget
   return {{"resolution", resolution},
           {"domain", std::move(domain)},
           {"pressure", {{"tolerance", 1e-8}}},

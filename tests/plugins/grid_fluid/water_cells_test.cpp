@@ -26,8 +26,7 @@ using Layout = LevelSet::Layout;
 nlohmann::json cell_water(int resolution, nlohmann::json initial, double tolerance = 1e-8) {
   return {{"resolution", resolution},
           {"pressure", {{"tolerance", tolerance}}},
-          {"water",
-           {{"level_set", "cells"}, {"volume_fraction", false}, {"initial", std::move(initial)}}}};
+          {"water", test::water_core("cells", {{"initial", std::move(initial)}})}};
 }
 
 /// The water's volume as the run reports it.
@@ -268,15 +267,14 @@ double zalesak_quarter_turn(const char* layout, int cells, int per_cell) {
           {{"domain", {{"min", {0, 0, 0}}, {"max", {100, 100, 100}}}},
            {"resolution", cells},
            {"water",
-            {{"level_set", layout},
-             {"volume_fraction", false},
-             {"initial",
-              {{{"type", "sphere"}, {"center", {50, 75, 50}}, {"radius", 15}},
-               {{"type", "box"},
-                {"min", {47.5, 0, -1}},
-                {"max", {52.5, 72.5, 101}},
-                {"subtract", true}}}},
-             {"particles", {{"per_cell", per_cell}}}}},
+            test::water_core(layout,
+                             {{"initial",
+                               {{{"type", "sphere"}, {"center", {50, 75, 50}}, {"radius", 15}},
+                                {{"type", "box"},
+                                 {"min", {47.5, 0, -1}},
+                                 {"max", {52.5, 72.5, 101}},
+                                 {"subtract", true}}}},
+                              {"particles", {{"per_cell", per_cell}}}})},
            {"prescribed_velocity",
             {{"type", "rigid_rotation"}, {"center", {50, 50, 50}}, {"period", 628.0}}}}),
       context);

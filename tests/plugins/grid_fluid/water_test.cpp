@@ -527,11 +527,11 @@ double collapsing_box_volume_ratio(int resolution, const char* advection, double
        {"resolution", resolution},
        {"pressure", {{"tolerance", 1e-6}}},
        {"water",
-        {{"level_set", "nodes"},
-         {"volume_fraction", false},
-         {"advection", advection},
-         {"initial",
-          {{{"type", "box"}, {"min", {0.05, 0.0, 0.05}}, {"max", {0.29, 0.19, 0.29}}}}}}}});
+        test::water_core("nodes", {{"advection", advection},
+                                   {"initial",
+                                    {{{"type", "box"},
+                                      {"min", {0.05, 0.0, 0.05}},
+                                      {"max", {0.29, 0.19, 0.29}}}}}})}});
   const double v0 = fluid->liquid()->level_set().volume();
   run_for(*fluid, duration, {}, {});
   return fluid->liquid()->level_set().volume() / v0;
