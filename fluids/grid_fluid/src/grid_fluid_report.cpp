@@ -69,9 +69,9 @@ void GridFluid::report_water(sdk::Metrics& out) const {
   }
   out.set("liquid_cells", static_cast<double>(p.liquid_cells));
   out.set("pressure_solve_cells", static_cast<double>(p.solve_cells));
-  out.set("level_set_invalid_nodes", static_cast<double>(w.invalid_nodes));
-  out.set("fmm_interface_nodes", static_cast<double>(w.reinitialization.interface_nodes));
-  out.set("fmm_marched_nodes", static_cast<double>(w.reinitialization.marched_nodes));
+  out.set("level_set_invalid_cells", static_cast<double>(w.invalid_cells));
+  out.set("fmm_interface_cells", static_cast<double>(w.reinitialization.interface_nodes));
+  out.set("fmm_marched_cells", static_cast<double>(w.reinitialization.marched_nodes));
   out.set("extrapolated_faces", static_cast<double>(w.extrapolation.extrapolated_faces));
   out.set("extrapolation_invalid_faces", static_cast<double>(w.extrapolation.invalid_faces));
   out.set("t_level_set", w.t_level_set);
@@ -82,7 +82,7 @@ void GridFluid::report_water(sdk::Metrics& out) const {
     out.set("particles_negative", static_cast<double>(q.negative));
     out.set("particles_positive", static_cast<double>(q.positive));
     out.set("particles_escaped", static_cast<double>(q.escaped));
-    out.set("particles_corrected_nodes", static_cast<double>(q.corrected_nodes));
+    out.set("particles_corrected_cells", static_cast<double>(q.corrected_nodes));
     out.set("particles_deleted_at_shells", static_cast<double>(q.deleted_at_shells));
     out.set("particles_kept_off_shells", static_cast<double>(q.kept_off_shells));
     out.set("particles_removed", static_cast<double>(q.removed));
@@ -109,7 +109,7 @@ void GridFluid::report(sdk::Metrics& out) const {
           static_cast<double>(m_stats.refill.refill.from_object + m_stats.refill.refill.isolated));
   // What each phase's storage holds, written in both modes (cost follows need reads them):
   // smoke keeps no level set, water no smoke density and temperature.
-  out.set("level_set_nodes",
+  out.set("level_set_cells",
           m_liquid ? static_cast<double>(m_liquid->level_set().phi().size()) : 0.0);
   out.set("smoke_nodes", static_cast<double>(m_nodes.density().size()));
   if (m_liquid) {
@@ -170,9 +170,10 @@ void GridFluid::warn_of_volume_drift(double volume, double held) const {
   // Why and what to do, the first time only.
   const char* why =
       !first ? ""
-             : " Water thinner than a cell against a wall or a shell is lost, and water landing "
-               "on a dry wall of the domain vanishes: README, Known limits, says what keeps more; "
-               "\"volume_by_phase\": true in /fluid/water says which phase drifts.";
+             : " Water thinner than a cell against a shell is lost, and with the level set "
+               "alone (/fluid/water/volume_fraction false) thin and curved water too: "
+               "docs/known-limits.md says what keeps more; \"volume_by_phase\": true in "
+               "/fluid/water says which phase drifts.";
   spdlog::warn(
       "grid_fluid: the water's volume is {:+.1f} % off what the scene holds at t = {:.4g} s "
       "({:.4g} m^3 against {:.4g} m^3 from the start, the emitters and the open sides{}).{}",
@@ -183,12 +184,8 @@ std::vector<sdk::PlanEntry> GridFluid::plan() const {
   std::vector<sdk::PlanEntry> out;
   if (m_liquid) {
     out.push_back({"water", true,
-                   "/fluid/water given: level set, fast marching, velocity extrapolation, "
-                   "free-surface pressure (§4.4)"});
-    out.push_back({"cell_centred_level_set", m_liquid->cell_centred(),
-                   m_liquid->cell_centred()
-                       ? "/fluid/water/level_set = cells: φ on the cell centres"
-                       : "/fluid/water/level_set = nodes: φ on the grid's nodes (§4.4.1)"});
+                   "/fluid/water given: level set on the cell centres, fast marching, velocity "
+                   "extrapolation, free-surface pressure (§4.4)"});
     out.push_back({"volume_fraction", m_liquid->fraction().enabled(),
                    m_liquid->fraction().enabled()
                        ? "/fluid/water/volume_fraction: each cell's water carried beside φ "

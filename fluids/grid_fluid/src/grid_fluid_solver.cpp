@@ -93,7 +93,7 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
                         "/water/sources");
     m_liquid = std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up,
                                         context.fps, m_boundary, context.gravity);
-    if (m_liquid->cell_centred()) m_refill.track_cells();  // φ's samples the shells sweep
+    m_refill.track_cells();  // φ's samples the shells sweep
   }
   for (size_t i = 0; i < sources.size(); ++i) {
     const std::string path = "/sources/" + std::to_string(i);
@@ -127,7 +127,7 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
     m_nodes_current = false;
   }
   if (m_prescribed) {
-    sample_prescribed(0.0, true);  // the field as it is: the walls do not change it
+    sample_prescribed(0.0);  // the field as it is: the walls do not change it
     // Every kind is fastest at t = 0 (steady, or LeVeque's cos(πt/T)): the CFL speed of
     // every step, also of those that start where the deformation stops (t = T/2).
     m_prescribed_speed = m_mac.max_face_speed();
@@ -262,8 +262,8 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
 
   if (m_prescribed) {
     // The field at the middle of the step carries φ and the particles; nothing else moves.
-    sample_prescribed(t + 0.5 * dt, m_liquid->cell_centred());  // cells trace the faces
-    m_liquid->advect(t, m_nodes, m_mac, dt, geom_n, band);
+    sample_prescribed(t + 0.5 * dt);
+    m_liquid->advect(t, m_mac, dt, geom_n, band);
   } else {
     // 1. §4.2 faces → nodes (already done at the end of the last projection, same shells).
     if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band);
@@ -272,7 +272,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
     m_advector.advect(
         m_nodes, m_next, dt, geom_n, band,
         m_liquid ? m_liquid->velocity_nodes(t, dt, speed) : std::span<const std::uint8_t>());
-    if (m_liquid) m_liquid->advect(t, m_nodes, m_mac, dt, geom_n, band);
+    if (m_liquid) m_liquid->advect(t, m_mac, dt, geom_n, band);
     std::swap(m_nodes, m_next);  // m_next keeps the fields at n: u^n for step 5
 
     // 3. Water: gravity on the nodes (§4.1), emitters; smoke: sources and body forces.
@@ -289,9 +289,8 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   }
   const ShellGeometry& geom_np1 = m_geometry_np1 && shells ? *m_geometry_np1 : none;
   if (m_liquid) {  // §4.4.1: φ refilled, then a signed distance again, against shells^{n+1}
-    const auto swept = m_liquid->cell_centred() ? m_refill.swept_cells() : m_refill.swept_nodes();
-    m_liquid->refill(shells ? swept : std::span<const std::int64_t>(), m_nodes, dt,
-                     geom_n, geom_np1);
+    m_liquid->refill(shells ? m_refill.swept_cells() : std::span<const std::int64_t>(), dt, geom_n,
+                     geom_np1);
     m_liquid->reinitialize(geom_n, geom_np1, band, t + dt);
   }
 
@@ -320,7 +319,7 @@ void GridFluid::advect_water_forces(double t, double dt) {
   m_stats.source_nodes = m_liquid->stats().source_nodes;
 }
 
-void GridFluid::sample_prescribed(double t, bool faces) {
+void GridFluid::sample_prescribed(double t) {
   const grid::UniformGrid& g = m_mac.grid();
   const std::int64_t n = m_nodes.size();
 #pragma omp parallel for schedule(static)
@@ -328,7 +327,7 @@ void GridFluid::sample_prescribed(double t, bool faces) {
     const Eigen::Vector3d u = m_prescribed->velocity(g.position(Location::Node, i), t);
     for (int a = 0; a < 3; ++a) m_nodes.velocity(a)[i] = u[a];
   }
-  if (faces) m_prescribed->fill(m_mac, t);
+  m_prescribed->fill(m_mac, t);
   m_nodes_current = true;
 }
 
@@ -380,7 +379,7 @@ void GridFluid::coupling_forces(double dt, sdk::ShellSet shells,
   if (ensure_geometry(m_geometry_np1, shells) || !m_band_used)
     build_band(shells, shells, 2.0 * m_mac.dx());
   // Water: the surface the projection will see (same shells), air cells at p = 0.
-  const FreeSurface* surface = m_liquid ? &m_liquid->surface(*m_geometry_np1, &m_band) : nullptr;
+  const FreeSurface* surface = m_liquid ? &m_liquid->surface() : nullptr;
   m_stats.coupling = coupling_pressure().compute(m_mac, dt, m_boundary, *m_geometry_np1, m_band,
                                                  shells, triangle_forces, surface);
 }
@@ -392,7 +391,7 @@ void GridFluid::project(double dt, sdk::ShellSet shells,
     if (v.rows() > 0) m_shell_speed = std::max(m_shell_speed, v.rowwise().norm().maxCoeff());
   if (m_prescribed) {  // nothing to solve: the field at n+1
     if (!shells.empty()) ensure_geometry(m_geometry_np1, shells);
-    sample_prescribed(m_time + dt, true);
+    sample_prescribed(m_time + dt);
     std::swap(m_geometry_n, m_geometry_np1);
     m_time += dt;
     return;
@@ -419,7 +418,7 @@ void GridFluid::project_against(std::unique_ptr<ShellGeometry>& geometry, double
   const ShellGeometry& geom = have_shells ? *geometry : none;
   const auto start = std::chrono::steady_clock::now();
   m_stats.projection = m_projection.project(m_mac, dt, m_boundary, geom, band,
-                                            m_liquid ? &m_liquid->surface(geom, band) : nullptr);
+                                            m_liquid ? &m_liquid->surface() : nullptr);
   m_t_pressure = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // §4.4: velocities across the surface, against the effective velocity of the shells.
   if (m_liquid) m_liquid->extrapolate(m_mac, m_projection, geom, band);
@@ -461,11 +460,8 @@ std::vector<sdk::FieldView> GridFluid::fields() const {
   };
   using L = sdk::FieldView::Location;
   std::vector<sdk::FieldView> out;
-  if (m_liquid && m_liquid->cell_centred())
+  if (m_liquid)
     out.push_back(view("phi", L::Cell, Location::Cell,
-                       {m_liquid->level_set().phi().data(), nullptr, nullptr}, 1));
-  else if (m_liquid)
-    out.push_back(view("phi", L::Node, Location::Node,
                        {m_liquid->level_set().phi().data(), nullptr, nullptr}, 1));
   else
     out.push_back(
@@ -489,7 +485,7 @@ std::vector<sdk::ParticleView> GridFluid::particles() const {
   static const ShellGeometry none;
   const ShellGeometry& shells = m_geometry_n ? *m_geometry_n : none;
   const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
-  const NodeFields& velocity = m_liquid->particle_velocity(m_nodes, m_mac);
+  const NodeFields& velocity = m_liquid->particle_velocity(m_mac);
   pls.gather(-1, velocity, shells, band, m_marker_views[0]);
   pls.gather(+1, velocity, shells, band, m_marker_views[1]);
   pls.gather(-1, velocity, shells, band, m_marker_views[2], &m_liquid->level_set());
@@ -519,7 +515,6 @@ std::optional<std::string> GridFluid::find_nonfinite() const {
   if (const auto i = scan(m_nodes.density()); i >= 0) return node_report("density", i);
   if (m_liquid)
     if (const auto i = scan(m_liquid->level_set().phi()); i >= 0) {
-      if (!m_liquid->cell_centred()) return node_report("level set phi", i);
       const Eigen::Vector3i ijk = m_mac.grid().coordinates(Location::Cell, i);
       return "level set phi at cell (" + std::to_string(ijk.x()) + ", " + std::to_string(ijk.y()) +
              ", " + std::to_string(ijk.z()) + ")";

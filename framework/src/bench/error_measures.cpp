@@ -457,7 +457,7 @@ std::vector<ErrorMeasure> make_registry() {
        "analytic: 0 (the run plan skips the feature)", "1",
        Schema::object("").field(
            "column", Schema::string().doc("the counter, e.g. smoke.band_nodes (shell band work), "
-                                          "smoke.coupling_faces, smoke.level_set_nodes, "
+                                          "smoke.coupling_faces, smoke.level_set_cells, "
                                           "water.smoke_nodes")),
        [](Json& params, const Json& scene) { return check_column(params, "column", scene); },
        [](const RunOutputs& run, const Json& p) {

@@ -5,6 +5,7 @@
 // reported metric, and a run of static shells at the CFL step.
 
 #include <gtest/gtest.h>
+#include <stdexcept>
 
 #include <algorithm>
 #include <cmath>
@@ -164,10 +165,12 @@ class TranslatingShell final : public sdk::SolidSolver {
   double m_offset = 0.0;
 };
 
-/// The water block `water` on one of the water cores the tests compare: "nodes" or "cells"
-/// (/water/level_set), or "fraction" (cells with /water/volume_fraction).
+/// The water block `water` on one of the water cores the tests compare: "cells" (the level
+/// set alone, /water/volume_fraction false) or "fraction" (with it, the default).
 inline nlohmann::json water_core(const std::string& core, nlohmann::json water) {
-  water["level_set"] = core == "fraction" ? "cells" : core;
+  if (core != "cells" && core != "fraction")
+    throw std::invalid_argument("test::water_core: \"cells\" or \"fraction\", not \"" + core +
+                                "\"");
   water["volume_fraction"] = core == "fraction";
   return water;
 }

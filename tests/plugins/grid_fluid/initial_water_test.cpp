@@ -25,15 +25,20 @@ struct Placement {
 
 class MeshInitialWater : public ::testing::TestWithParam<Placement> {};
 
-TEST_P(MeshInitialWater, IsTheInsideOfABoxWhoseEdgesLieOnNodeRows) {
-  // A box mesh 12 × 2 × 16 cells (the divisions put its vertices on node rows), centred on
-  // a node, turned about the axis: every node's φ is the box's exact signed distance
-  // within the band (the closest point is exact; its sign from the crossings).
+TEST_P(MeshInitialWater, IsTheInsideOfABoxWhoseEdgesLieOnRowsOfSamples) {
+  // A box mesh 12 × 2 × 16 cells (the divisions put its vertices on rows of φ's samples, the
+  // cell centres), centred on a sample, turned about the axis: every sample's φ is the box's
+  // exact signed distance within the band (the closest point is exact; its sign from the
+  // crossings).
   const int n = 32;
   const double dx = 1.0 / n;
   const grid::UniformGrid grid(Eigen::Vector3d::Zero(), dx, Eigen::Vector3i::Constant(n));
+  const double band = 4.0 * dx;
+  LevelSet level_set(grid, band);
+  const grid::UniformGrid& lattice = level_set.grid();
   const Placement placement = GetParam();
-  const Eigen::Vector3d size(12 * dx, 2 * dx, 16 * dx), centre(0.5, 0.5, 0.5);
+  const Eigen::Vector3d size(12 * dx, 2 * dx, 16 * dx),
+      centre = lattice.position(Location::Node, Eigen::Vector3i::Constant(n / 2 - 1));
   const nlohmann::json entries = {
       {{"type", "mesh"},
        {"subtract", false},
@@ -42,15 +47,13 @@ TEST_P(MeshInitialWater, IsTheInsideOfABoxWhoseEdgesLieOnNodeRows) {
         {{"rotate_axis", {placement.axis.x(), placement.axis.y(), placement.axis.z()}},
          {"rotate_deg", placement.degrees},
          {"translate", {centre.x(), centre.y(), centre.z()}}}}}};
-  const double band = 4.0 * dx;
-  LevelSet level_set(grid, band);
   fill_initial_water(entries, Eigen::Vector3d::UnitY(), "/water/initial", level_set);
   const Eigen::Matrix3d r =
       Eigen::AngleAxisd(placement.degrees * M_PI / 180.0, placement.axis.normalized())
           .toRotationMatrix();
   int inside = 0, wrong = 0;
-  for (std::int64_t i = 0; i < grid.size(Location::Node); ++i) {
-    const Eigen::Vector3d q = r.transpose() * (grid.position(Location::Node, i) - centre);
+  for (std::int64_t i = 0; i < lattice.size(Location::Node); ++i) {
+    const Eigen::Vector3d q = r.transpose() * (lattice.position(Location::Node, i) - centre);
     const Eigen::Vector3d out = q.cwiseAbs() - 0.5 * size;
     const double exact = std::min(out.maxCoeff(), 0.0) + out.cwiseMax(0.0).norm();
     const double phi = level_set.phi()[i];
@@ -58,10 +61,11 @@ TEST_P(MeshInitialWater, IsTheInsideOfABoxWhoseEdgesLieOnNodeRows) {
     inside += exact < 0.0 ? 1 : 0;
     // Round-off of the closest point; a wrong sign is off by 2|d| > 1e-9.
     if (std::abs(phi - exact) > 1e-9) ++wrong;
-    EXPECT_NEAR(phi, exact, 1e-9) << "node " << grid.coordinates(Location::Node, i).transpose();
+    EXPECT_NEAR(phi, exact, 1e-9) << "sample "
+                                  << lattice.coordinates(Location::Node, i).transpose();
   }
   EXPECT_EQ(wrong, 0);
-  EXPECT_GT(inside, 100);  // not vacuous: the box holds nodes
+  EXPECT_GT(inside, 100);  // not vacuous: the box holds samples
 }
 
 INSTANTIATE_TEST_SUITE_P(Turned, MeshInitialWater,

@@ -1,7 +1,6 @@
-// Water on the cell centres ("level_set": "cells", issue #51, step C3) with emitters and
-// open and inflow sides: BoundaryPhi's ghost (an open or inflow side lets no water in), a
-// stream kept by a closed tank's dry floor, water thrown against an open top, and the
-// volume budget (VolumeBudget) ported from volume_budget_test.cpp to cells.
+// The level set on the cell centres with emitters and open and inflow sides: BoundaryPhi's
+// ghost (an open or inflow side lets no water in), a stream kept by a closed tank's dry
+// floor, water thrown against an open top, and the volume budget's flows (VolumeBudget).
 
 #include <gtest/gtest.h>
 
@@ -22,11 +21,11 @@ namespace {
 
 using grid::Location;
 
-/// A water scene: `water` on the given layout ("cells" or "nodes").
-nlohmann::json scene(const std::string& layout, nlohmann::json water, int resolution,
+/// A water scene: `water` on the level set alone, whose own budget these tests check.
+nlohmann::json scene(nlohmann::json water, int resolution,
                      nlohmann::json boundary = nlohmann::json::object(),
                      nlohmann::json domain = {{"min", {0, 0, 0}}, {"max", {1, 1, 1}}}) {
-  water = test::water_core(layout, std::move(water));  // the level set's own budget
+  water = test::water_core("cells", std::move(water));
   return {{"resolution", resolution},
           {"domain", std::move(domain)},
           {"pressure", {{"tolerance", 1e-8}}},
@@ -121,32 +120,23 @@ TEST(WaterOnCellsBudget, AStreamOntoTheDryFloorOfAClosedTankStaysInIt) {
   // while it pours (water made where the stream strikes the floor, then lost by the thin
   // spreading layer: docs/water-cell-centres.md, C3), and from −1.8% to −6.2% between
   // 1.5 and 3.5 s as other step sequences give it (the run cut at other times). Bound:
-  // 10%. The node core keeps none of it.
+  // 10%.
   const nlohmann::json water = {{"sources",
                                  {{{"shape", "box"},
                                    {"min", {0.15625, 0.125, 0.15625}},
                                    {"max", {0.34375, 0.25, 0.34375}},
                                    {"velocity", {0.0, -0.5, 0.0}},
                                    {"end", 1.0}}}}};
-  const auto kept = [&](const std::string& layout) {
-    auto fluid = test::make_fluid(scene(layout, water, 32, nlohmann::json::object(), kTall));
-    run_until(*fluid, 0.0, 2.0);
-    const double v = metric(*fluid, "water_volume"), added = metric(*fluid, "water_volume_added");
-    // All of it on the floor: the lowest quarter of the tank holds it.
-    const grid::IndexBox low{Eigen::Vector3i::Zero(), Eigen::Vector3i(15, 7, 15)};
-    if (layout == "cells") {
-      EXPECT_NEAR(fluid->liquid()->level_set().volume(low), v, 1e-12 * v);
-    }
-    return std::pair{v, added};
-  };
-  const auto [cells, added] = kept("cells");
-  const auto [nodes, added_nodes] = kept("nodes");
-  std::printf(
-      "[  figure  ] stream onto a dry floor: cells keep %+.2f%%, nodes %+.2f%% of %.5f m^3\n",
-      100.0 * (cells / added - 1.0), 100.0 * (nodes / added_nodes - 1.0), added);
+  auto fluid = test::make_fluid(scene(water, 32, nlohmann::json::object(), kTall));
+  run_until(*fluid, 0.0, 2.0);
+  const double kept = metric(*fluid, "water_volume"), added = metric(*fluid, "water_volume_added");
+  std::printf("[  figure  ] stream onto a dry floor: the tank keeps %+.2f%% of %.5f m^3\n",
+              100.0 * (kept / added - 1.0), added);
   EXPECT_GT(added, 0.02);  // 0.5 m/s over 0.035 m² for 1 s, and its fill
-  EXPECT_NEAR(cells, added, 0.1 * added);
-  EXPECT_LT(nodes, 0.9 * added_nodes);  // the node core fails the same bound
+  EXPECT_NEAR(kept, added, 0.1 * added);
+  // All of it on the floor: the lowest quarter of the tank holds it.
+  const grid::IndexBox low{Eigen::Vector3i::Zero(), Eigen::Vector3i(15, 7, 15)};
+  EXPECT_NEAR(fluid->liquid()->level_set().volume(low), kept, 1e-12 * kept);
 }
 
 TEST(WaterOnCellsBudget, WaterThrownAgainstAnOpenTopLeavesOrFallsBackAndNoneComesIn) {
@@ -156,10 +146,7 @@ TEST(WaterOnCellsBudget, WaterThrownAgainstAnOpenTopLeavesOrFallsBackAndNoneCome
   // decreases), and nothing comes in: once the water has fallen back the upper quarter is
   // dry, and the tank never holds more than the emitter gave less what left, by more than
   // a half-cell layer under the top (what the step in which the cells under the top turn
-  // dry may count: the next test; measured: never more). The node core, whose departure
-  // points beyond the top read its last plane, brought water in from outside: its outflow
-  // turned down (paper/water_curtain_preview's 2 m³, issue #51) and water stood under the
-  // top.
+  // dry may count: the next test; measured: never more).
   const nlohmann::json water = {{"sources",
                                  {{{"shape", "box"},
                                    {"min", {0.15625, 0.0625, 0.15625}},
@@ -176,8 +163,8 @@ TEST(WaterOnCellsBudget, WaterThrownAgainstAnOpenTopLeavesOrFallsBackAndNoneCome
     double left_top = 0.0;      // ... at the end
     double out = 0.0;
   };
-  const auto thrown = [&](const std::string& layout) {
-    auto fluid = test::make_fluid(scene(layout, water, 32, open_top, kTall));
+  const auto thrown = [&] {
+    auto fluid = test::make_fluid(scene(water, 32, open_top, kTall));
     Seen seen;
     double last = 0.0;
     run_until(*fluid, 0.0, 1.5, [&] {
@@ -193,20 +180,16 @@ TEST(WaterOnCellsBudget, WaterThrownAgainstAnOpenTopLeavesOrFallsBackAndNoneCome
     seen.out = last;
     return seen;
   };
-  const Seen cells = thrown("cells"), nodes = thrown("nodes");
+  const Seen seen = thrown();
   std::printf(
-      "[  figure  ] jet against an open top: cells out %.5f, %d decreases, gained at most %.2e, "
-      "upper quarter %.5f then %.2e; nodes out %.5f, %d decreases, upper quarter %.2e at 1.5 s\n",
-      cells.out, cells.decreases, cells.most_gained, cells.reached_top, cells.left_top, nodes.out,
-      nodes.decreases, nodes.left_top);
-  EXPECT_GT(cells.reached_top, 0.01);  // it did reach the top
-  EXPECT_GT(cells.out, 0.03);          // and part of it left
-  EXPECT_EQ(cells.decreases, 0);
-  EXPECT_EQ(cells.left_top, 0.0);
-  EXPECT_LE(cells.most_gained, layer);
-  // The same checks catch the node core.
-  EXPECT_GT(nodes.decreases, 0);
-  EXPECT_GT(nodes.left_top, 0.0);
+      "[  figure  ] jet against an open top: out %.5f, %d decreases, gained at most %.2e, "
+      "upper quarter %.5f then %.2e\n",
+      seen.out, seen.decreases, seen.most_gained, seen.reached_top, seen.left_top);
+  EXPECT_GT(seen.reached_top, 0.01);  // it did reach the top
+  EXPECT_GT(seen.out, 0.03);          // and part of it left
+  EXPECT_EQ(seen.decreases, 0);
+  EXPECT_EQ(seen.left_top, 0.0);
+  EXPECT_LE(seen.most_gained, layer);
 }
 
 TEST(WaterOnCellsBudget, WaterAgainstAnOpenTopFallsAwayAndNothingFollowsIt) {
@@ -216,33 +199,22 @@ TEST(WaterOnCellsBudget, WaterAgainstAnOpenTopFallsAwayAndNothingFollowsIt) {
   // air beyond it and turn dry as the water leaves them: the upper quarter drains, and the
   // tank never holds more than it started with, by more than a half-cell layer under the
   // top (measured +5.3% = 0.85 of it in the step the top cells turn dry, the cells below
-  // them still deep water, then the start's volume to round-off). The node core kept its
-  // top plane wet, so water followed from outside: 2.6 times the water by 0.3 s (the
-  // outflow counting it in, negative).
+  // them still deep water, then the start's volume to round-off).
   const nlohmann::json water = {
       {"initial", {{{"type", "box"}, {"min", {-1.0, 0.75, -1.0}}, {"max", {2.0, 2.0, 2.0}}}}}};
   const nlohmann::json open_top = {{"y_max", {{"type", "open"}}}};
   const double dx = 1.0 / 32, layer = 0.5 * dx * 0.25;
   const grid::IndexBox upper{Eigen::Vector3i(0, 24, 0), Eigen::Vector3i(15, 31, 15)};
-  const auto fall = [&](const std::string& layout, double& most) {
-    auto fluid = test::make_fluid(scene(layout, water, 32, open_top, kTall));
-    most = 0.0;
-    run_until(*fluid, 0.0, 0.3, [&] { most = std::max(most, metric(*fluid, "water_volume")); });
-    return std::pair{fluid->liquid()->level_set().volume(upper), metric(*fluid, "water_volume")};
-  };
-  double most_cells, most_nodes;
-  const auto [top_cells, v_cells] = fall("cells", most_cells);
-  const auto [top_nodes, v_nodes] = fall("nodes", most_nodes);
+  auto fluid = test::make_fluid(scene(water, 32, open_top, kTall));
+  double most = 0.0;
+  run_until(*fluid, 0.0, 0.3, [&] { most = std::max(most, metric(*fluid, "water_volume")); });
+  const double top = fluid->liquid()->level_set().volume(upper), v = metric(*fluid, "water_volume");
   const double v0 = 0.25 * 0.25;
-  std::printf(
-      "[  figure  ] water under an open top: cells at most %+.2f%%, %+.2f%% at 0.3 s; nodes "
-      "%+.0f%%\n",
-      100.0 * (most_cells / v0 - 1.0), 100.0 * (v_cells / v0 - 1.0), 100.0 * (v_nodes / v0 - 1.0));
-  EXPECT_LE(most_cells, v0 + layer);
-  EXPECT_EQ(top_cells, 0.0);
-  EXPECT_GT(v_cells, 0.95 * v0);  // and it is still there (pulling away lost none)
-  EXPECT_GT(most_nodes, 2.0 * v0);
-  EXPECT_GT(top_nodes, 0.0);
+  std::printf("[  figure  ] water under an open top: at most %+.2f%%, %+.2f%% at 0.3 s\n",
+              100.0 * (most / v0 - 1.0), 100.0 * (v / v0 - 1.0));
+  EXPECT_LE(most, v0 + layer);
+  EXPECT_EQ(top, 0.0);
+  EXPECT_GT(v, 0.95 * v0);  // and it is still there (pulling away lost none)
 }
 
 TEST(WaterOnCellsBudget, AnInflowSideBringsNoWater) {
@@ -250,26 +222,21 @@ TEST(WaterOnCellsBudget, AnInflowSideBringsNoWater) {
   // at 0.5 m/s: an inflow side is a wall with a prescribed velocity, so its faces point in
   // and the water beside it pulls away: it never holds more than at the start, by more
   // than a half-cell layer beside the side's wet part (as under an open top, the next
-  // test but one; measured: never more). The node core brought water in.
+  // test but one; measured: never more).
   const nlohmann::json water = {{"initial", {{{"type", "pool"}, {"height", 0.3}}}}};
   const nlohmann::json inflow = {{"x_min", {{"type", "inflow"}, {"velocity", {0.5, 0, 0}}}}};
   const nlohmann::json domain = {{"min", {0, 0, 0}}, {"max", {1.0, 0.5, 0.25}}};
   const double v0 = 0.3 * 0.25, layer = 0.5 * (1.0 / 32) * 0.3 * 0.25;
-  const auto most = [&](const std::string& layout) {
-    auto fluid = test::make_fluid(scene(layout, water, 32, inflow, domain));
-    double m = 0.0;
-    run_until(*fluid, 0.0, 0.5, [&] { m = std::max(m, metric(*fluid, "water_volume")); });
-    return m;
-  };
-  const double cells = most("cells"), nodes = most("nodes");
-  std::printf("[  figure  ] pool beside an inflow side: at most %+.2f%% (cells), %+.2f%% (nodes)\n",
-              100.0 * (cells / v0 - 1.0), 100.0 * (nodes / v0 - 1.0));
-  EXPECT_LE(cells, v0 + layer);
-  EXPECT_GT(nodes, v0 + layer);
+  auto fluid = test::make_fluid(scene(water, 32, inflow, domain));
+  double most = 0.0;
+  run_until(*fluid, 0.0, 0.5, [&] { most = std::max(most, metric(*fluid, "water_volume")); });
+  std::printf("[  figure  ] pool beside an inflow side: at most %+.2f%%\n",
+              100.0 * (most / v0 - 1.0));
+  EXPECT_LE(most, v0 + layer);
 }
 
 TEST(WaterOnCellsBudget, WaterFallingThroughAnOpenFloorIsCountedOut) {
-  // VolumeBudget.WaterFallingThroughAnOpenFloorIsCountedOut on cells: a slab 0.2 m deep
+  // A slab 0.2 m deep
   // across a unit tank (24³) falls freely through its open floor. The level set moves its
   // linear φ exactly, and the outflow sweeps it out exactly, but the volume counts the
   // half-cell strip above the floor with the first centres' φ (constant continuation):
@@ -277,7 +244,6 @@ TEST(WaterOnCellsBudget, WaterFallingThroughAnOpenFloorIsCountedOut) {
   // So the tank's loss and the outflow differ by less than that strip (1 m² × Δx/2) part
   // way and at the end; outward only, the outflow never decreases.
   auto fluid = test::make_fluid(scene(
-      "cells",
       {{"initial", {{{"type", "box"}, {"min", {-1.0, 0.3, -1.0}}, {"max", {2.0, 0.5, 2.0}}}}}}, 24,
       {{"y_min", {{"type", "open"}}}}));
   const double v0 = fluid->liquid()->level_set().volume(), strip = 0.5 / 24;
@@ -309,14 +275,13 @@ TEST(WaterOnCellsBudget, WaterFallingThroughAnOpenFloorIsCountedOut) {
 }
 
 TEST(WaterOnCellsBudget, AnEmitterAddsWhatItsHeldFacesLetOut) {
-  // VolumeBudget.AnEmitterAddsWhatItsHeldFacesLetOut on cells: an emitter across the whole
+  // An emitter across the whole
   // tank (24³, 3 cells deep, 1 m/s down) fills its own cells in the first step (its box's
   // faces lie halfway between centres, where the lattice's interpolant of their distances
   // crosses zero: exact) and then adds 1 m/s over the tank's 1 m², to round-off; the
   // column's flat front keeps the volume (a linear φ is traced exactly).
   const double dx = 1.0 / 24;
-  auto fluid = test::make_fluid(scene("cells",
-                                      {{"sources",
+  auto fluid = test::make_fluid(scene({{"sources",
                                         {{{"shape", "box"},
                                           {"min", {-1.0, 0.75, -1.0}},
                                           {"max", {2.0, 0.875, 2.0}},
@@ -336,12 +301,11 @@ TEST(WaterOnCellsBudget, AnEmitterAddsWhatItsHeldFacesLetOut) {
 }
 
 TEST(WaterOnCellsBudget, ACylinderEmitterLetsOutWhatItsHeldFacesImpose) {
-  // VolumeBudget.ACylinderEmitterLetsOutWhatItsHeldFacesImpose on cells: after its first
+  // After its first
   // step's fill, a cylinder emitter (r = 0.2 m, 1 m/s down, 24³) adds 1 m/s over the
   // faces under its cells, exactly (the faces it holds are the MAC grid's, whichever
   // lattice φ lives on).
-  auto fluid = test::make_fluid(scene("cells",
-                                      {{"sources",
+  auto fluid = test::make_fluid(scene({{"sources",
                                         {{{"shape", "cylinder"},
                                           {"from", {0.5, 0.8, 0.5}},
                                           {"to", {0.5, 0.9, 0.5}},
@@ -370,7 +334,7 @@ TEST(WaterOnCellsBudget, ACylinderEmitterLetsOutWhatItsHeldFacesImpose) {
 }
 
 TEST(WaterOnCellsBudget, ThePhasesDriftsAddUpToTheDrift) {
-  // VolumeBudget.ThePhasesDriftsAddUpToTheDrift on cells: a collapsing column, a stream and
+  // A collapsing column, a stream and
   // an open side make every phase move water; without shells the phases' sums add up to
   // water_volume_drift to round-off. A prescribed velocity's advection counts as advection.
   const nlohmann::json water = {
@@ -382,7 +346,7 @@ TEST(WaterOnCellsBudget, ThePhasesDriftsAddUpToTheDrift) {
          {"to", {0.7, 0.9, 0.5}},
          {"radius", 0.1},
          {"velocity", {0.0, -1.0, 0.0}}}}}};
-  auto fluid = test::make_fluid(scene("cells", water, 24, {{"x_max", {{"type", "open"}}}}));
+  auto fluid = test::make_fluid(scene(water, 24, {{"x_max", {{"type", "open"}}}}));
   run_until(*fluid, 0.0, 0.4);
   const double advection = metric(*fluid, "water_drift_advection");
   const double reinitialization = metric(*fluid, "water_drift_reinitialization");
@@ -399,7 +363,7 @@ TEST(WaterOnCellsBudget, ThePhasesDriftsAddUpToTheDrift) {
   auto carried = test::make_fluid(
       {{"resolution", 16},
        {"water",
-        {{"level_set", "cells"},
+        {{"volume_fraction", false},
          {"volume_by_phase", true},
          {"initial", {{{"type", "sphere"}, {"center", {0.35, 0.35, 0.35}}, {"radius", 0.15}}}}}},
        {"prescribed_velocity", {{"type", "deformation"}, {"period", 3.0}}}},

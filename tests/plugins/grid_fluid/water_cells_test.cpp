@@ -1,6 +1,6 @@
-// Water with φ on the cell centres ("level_set": "cells", issue #51): the samples' lattice,
-// the volume measure with φ continued constant beyond the outer centres, still water, free
-// fall, water landing on a dry floor, and what the cell-centred core refuses for now.
+// Water with φ on the cell centres (issue #51): the samples' lattice, the volume measure with
+// φ continued constant beyond the outer centres, still water, free fall, water landing on a
+// dry floor, the volume fraction, and what the water core refuses.
 
 #include <gtest/gtest.h>
 
@@ -21,7 +21,6 @@ namespace shellflow::grid_fluid {
 namespace {
 
 using grid::Location;
-using Layout = LevelSet::Layout;
 
 nlohmann::json cell_water(int resolution, nlohmann::json initial, double tolerance = 1e-8) {
   return {{"resolution", resolution},
@@ -34,16 +33,16 @@ double water_volume(const GridFluid& f) { return f.liquid()->volume(nullptr, nul
 
 TEST(LevelSetOnCells, ItsSamplesAreTheCellCentresInTheCellOrder) {
   const grid::UniformGrid mac(Eigen::Vector3d(0.1, -0.2, 0.3), 0.05, Eigen::Vector3i(4, 3, 5));
-  const LevelSet ls(mac, 0.3, Layout::Cells);
+  const LevelSet ls(mac, 0.3);
   ASSERT_EQ(ls.phi().size(), static_cast<size_t>(mac.size(Location::Cell)));
   for (std::int64_t i = 0; i < mac.size(Location::Cell); ++i)
     EXPECT_LT((ls.grid().position(Location::Node, i) - mac.position(Location::Cell, i)).norm(),
               1e-15);
   EXPECT_EQ(ls.mac_grid().cells(), mac.cells());
   // One cell along an axis has no second centre to interpolate to.
-  EXPECT_THROW(LevelSet(grid::UniformGrid(Eigen::Vector3d::Zero(), 0.1, Eigen::Vector3i(4, 1, 4)),
-                        0.3, Layout::Cells),
-               std::invalid_argument);
+  EXPECT_THROW(
+      LevelSet(grid::UniformGrid(Eigen::Vector3d::Zero(), 0.1, Eigen::Vector3i(4, 1, 4)), 0.3),
+      std::invalid_argument);
 }
 
 TEST(LevelSetOnCells, VolumeOfALevelSurfaceIsExactAtAnyHeightBetweenTheOuterCentres) {
@@ -54,7 +53,7 @@ TEST(LevelSetOnCells, VolumeOfALevelSurfaceIsExactAtAnyHeightBetweenTheOuterCent
   const double dx = mac.dx();
   const Eigen::Vector3d lo = mac.origin(), hi = mac.upper();
   const double box = (hi - lo).prod();
-  LevelSet ls(mac, 6.0 * dx, Layout::Cells);
+  LevelSet ls(mac, 6.0 * dx);
   for (int a = 0; a < 3; ++a)
     for (const double fraction : {0.01, 0.137, 0.5, 0.81, 0.99})
       for (const double sign : {1.0, -1.0}) {
@@ -73,7 +72,7 @@ TEST(LevelSetOnCells, BoxesThatPartitionTheDomainShareItsVolume) {
   // A probe box takes each lattice cell by its share inside the box, so boxes that tile
   // the domain add up to its water (round-off): no water counted twice or lost at a seam.
   const grid::UniformGrid mac(Eigen::Vector3d::Zero(), 0.1, Eigen::Vector3i(8, 10, 6));
-  LevelSet ls(mac, 0.6, Layout::Cells);
+  LevelSet ls(mac, 0.6);
   const Eigen::Vector3d c(0.37, 0.52, 0.29);
   for (std::int64_t i = 0; i < mac.size(Location::Cell); ++i)
     ls.phi()[i] = (mac.position(Location::Cell, i) - c).norm() - 0.33;
@@ -93,14 +92,14 @@ TEST(LevelSetOnCells, BoxesThatPartitionTheDomainShareItsVolume) {
 }
 
 TEST(LevelSetOnCells, VolumeOfASphereConvergesAtSecondOrder) {
-  // As on the nodes (water_test.cpp): the interpolant of a convex distance lies above it,
+  // The interpolant of a convex distance lies above it,
   // so the water measures short by O(Δx²), about −(Δx/r)²/2; each halving must cut the
   // error 3× or more (4× in the limit).
   const Eigen::Vector3d c(0.51, 0.47, 0.503);
   const double r = 0.3, exact = 4.0 / 3.0 * std::numbers::pi * r * r * r;
   const auto error_at = [&](int n) {
     const grid::UniformGrid mac(Eigen::Vector3d::Zero(), 1.0 / n, Eigen::Vector3i(n, n, n));
-    LevelSet ls(mac, 1.0, Layout::Cells);
+    LevelSet ls(mac, 1.0);
     for (std::int64_t i = 0; i < mac.size(Location::Cell); ++i)
       ls.phi()[i] = (mac.position(Location::Cell, i) - c).norm() - r;
     return ls.volume() / exact - 1.0;
@@ -124,7 +123,7 @@ TEST(LevelSetOnCells, VolumeOfWaterInACornerConvergesAtSecondOrder) {
   const auto error_at = [&](int cells) {
     const grid::UniformGrid mac(Eigen::Vector3d::Zero(), 1.0 / cells,
                                 Eigen::Vector3i(cells, cells, cells));
-    LevelSet ls(mac, 1.0, Layout::Cells);
+    LevelSet ls(mac, 1.0);
     for (std::int64_t i = 0; i < mac.size(Location::Cell); ++i)
       ls.phi()[i] = n.dot(mac.position(Location::Cell, i)) - d;
     return ls.volume() / 0.18 - 1.0;
@@ -189,7 +188,7 @@ TEST(WaterOnCells, ALevelLayerFallingOntoTheDryFloorComesToRestOnIt) {
   // exactly until the layer lands: then the first cells turn liquid with the layer's
   // underside somewhere between the floor and their centres, and φ continued constant to
   // the floor counts the gap as water. Known answer: the layer ends at rest on the floor
-  // holding its water to within that half-cell layer (the node core lost it all).
+  // holding its water to within that half-cell layer.
   nlohmann::json params =
       cell_water(32, {{{"type", "box"}, {"min", {-1.0, 0.5, -1.0}}, {"max", {2.0, 0.63, 2.0}}}});
   params["domain"] = {{"min", {0.0, 0.0, 0.0}}, {"max", {0.25, 1.0, 0.25}}};
@@ -233,8 +232,8 @@ TEST(WaterOnCells, ALayerFallingOntoAShelfWithAirBeneathComesToRestOnIt) {
 
 TEST(WaterOnCells, ABoxDroppedOnTheDryFloorStaysOnIt) {
   // verify/water_box_dropped_on_dry_floor at 32 cells (16 x 32 x 16): the box falls 0.4 m,
-  // lands at 0.29 s and spreads over the floor into a pool about one cell deep. The node
-  // core lost all of it by 0.5 s. Measured on cells: −23.5% at the impact (the
+  // lands at 0.29 s and spreads over the floor into a pool about one cell deep. Measured
+  // on the level set alone: −23.5% at the impact (the
   // semi-Lagrangian step rounds the cube's edges in the fall: docs/water-cell-centres.md),
   // then −4.6% at 1.25 s, the spreading layer's half-cell rounding returning part of it.
   // Bound: 10% of the water.
@@ -252,58 +251,6 @@ TEST(WaterOnCells, ABoxDroppedOnTheDryFloorStaysOnIt) {
   // Where it is: on the floor, all of it in the lowest quarter of the tank.
   const grid::IndexBox low{Eigen::Vector3i::Zero(), Eigen::Vector3i(15, 7, 15)};
   EXPECT_NEAR(fluid->liquid()->level_set().volume(low), v, 1e-12);
-}
-
-/// Zalesak's slotted sphere with φ on `layout` at `cells`^3, turned a quarter of a
-/// revolution by a rigid rotation, with `per_cell` particles: the volume change over the
-/// start.
-double zalesak_quarter_turn(const char* layout, int cells, int per_cell) {
-  sdk::Context context;
-  context.instance_name = "water";
-  context.gravity = Eigen::Vector3d::Zero();
-  context.fps = 24.0 / 628.0 * 4.0;  // reseeded every 10 frames: 2.4 times a quarter turn
-  GridFluid fluid(
-      test::validated(
-          {{"domain", {{"min", {0, 0, 0}}, {"max", {100, 100, 100}}}},
-           {"resolution", cells},
-           {"water",
-            test::water_core(layout,
-                             {{"initial",
-                               {{{"type", "sphere"}, {"center", {50, 75, 50}}, {"radius", 15}},
-                                {{"type", "box"},
-                                 {"min", {47.5, 0, -1}},
-                                 {"max", {52.5, 72.5, 101}},
-                                 {"subtract", true}}}},
-                              {"particles", {{"per_cell", per_cell}}}})},
-           {"prescribed_velocity",
-            {{"type", "rigid_rotation"}, {"center", {50, 50, 50}}, {"period", 628.0}}}}),
-      context);
-  const double v0 = fluid.liquid()->initial_volume();
-  double t = 0.0;
-  while (t < 157.0 - 1e-9) {
-    const double dt = std::min(fluid.stable_dt(0.5), 157.0 - t);
-    fluid.advect(t, dt, {}, {});
-    fluid.project(dt, {}, {});
-    t += dt;
-  }
-  return fluid.liquid()->level_set().volume() / v0 - 1.0;
-}
-
-TEST(ParticlesOnCells, KeepTheWaterOfZalesaksSphereThatTheLevelSetAloneLoses) {
-  // §4.4.2 (Enright et al. 2002) on cell-centred φ: the particles' corrections reach the
-  // cell centres about them. The trilinear step alone rounds the slot's edges away every
-  // step (the slot is 1.6 cells wide at 32^3); the particles give them back. Bounds: with
-  // particles, no worse than on the nodes plus a point, and under a third of the level
-  // set's loss alone.
-  const double alone = zalesak_quarter_turn("cells", 32, 0);
-  const double with = zalesak_quarter_turn("cells", 32, 16);
-  const double nodes = zalesak_quarter_turn("nodes", 32, 16);
-  std::printf("[  figure  ] Zalesak 32^3, a quarter turn: cells %+.2f%% alone, %+.2f%% with 16 "
-              "particles per cell; nodes %+.2f%% with 16\n",
-              100.0 * alone, 100.0 * with, 100.0 * nodes);
-  EXPECT_LT(alone, -0.05);  // the level set alone does lose it: the test can tell
-  EXPECT_LT(std::abs(with), std::abs(nodes) + 0.01);
-  EXPECT_LT(std::abs(with), std::abs(alone) / 3.0);
 }
 
 TEST(ParticlesOnCells, AreSeededInTheStripsAlongTheWalls) {
@@ -512,17 +459,24 @@ TEST(VolumeFraction, WaterThrownThroughAnOpenTopIsCountedOutAndNoneComesIn) {
   EXPECT_EQ(fluid->liquid()->level_set().volume(upper), 0.0);
 }
 
-TEST(VolumeFraction, IsRefusedOnNodesNamingBothWaysOut) {
-  // On by default: a scene that names the node core alone is told how to go on.
+TEST(WaterOnCells, ASceneNamingTheRemovedNodeLevelSetIsToldWhatChanged) {
+  // The node level set was removed: a scene written for it is refused at its key, told
+  // where φ lives now and how to go on, with or without a volume fraction.
   nlohmann::json pool = {{{"type", "pool"}, {"height", 0.3}}};
-  const std::string nodes = test::validate_refusal(
-      {{"resolution", 8}, {"water", {{"level_set", "nodes"}, {"initial", pool}}}});
-  EXPECT_NE(nodes.find("/fluid/water/volume_fraction"), std::string::npos) << nodes;
-  EXPECT_NE(nodes.find("false"), std::string::npos) << nodes;
-  EXPECT_NE(nodes.find("cells"), std::string::npos) << nodes;
+  for (const bool fraction : {true, false}) {
+    const std::string nodes = test::validate_refusal(
+        {{"resolution", 8},
+         {"water", {{"level_set", "nodes"}, {"volume_fraction", fraction}, {"initial", pool}}}});
+    EXPECT_NE(nodes.find("/fluid/water/level_set"), std::string::npos) << nodes;
+    EXPECT_NE(nodes.find("removed"), std::string::npos) << nodes;
+    EXPECT_NE(nodes.find("cell centres"), std::string::npos) << nodes;
+    EXPECT_NE(nodes.find("Delete the key"), std::string::npos) << nodes;
+  }
+  EXPECT_NO_THROW(test::make_fluid(
+      {{"resolution", 8}, {"water", {{"level_set", "cells"}, {"initial", pool}}}}));
 }
 
-TEST(WaterOnCells, ThePlanSaysWhereThePhiLivesAndWhetherAFractionIsCarried) {
+TEST(WaterOnCells, ThePlanSaysWhetherAFractionIsCarried) {
   // run.json's plan: what a step of the scene computes (cost follows need).
   const auto enabled = [](const GridFluid& f, const std::string& module) {
     for (const sdk::PlanEntry& e : f.plan())
@@ -531,25 +485,20 @@ TEST(WaterOnCells, ThePlanSaysWhereThePhiLivesAndWhetherAFractionIsCarried) {
   };
   auto params = cell_water(8, {{{"type", "pool"}, {"height", 0.3}}});
   const auto plain = test::make_fluid(params);
-  EXPECT_EQ(enabled(*plain, "cell_centred_level_set"), std::optional<bool>(true));
+  EXPECT_EQ(enabled(*plain, "water"), std::optional<bool>(true));
   EXPECT_EQ(enabled(*plain, "volume_fraction"), std::optional<bool>(false));
   params["water"]["volume_fraction"] = true;
   EXPECT_EQ(enabled(*test::make_fluid(params), "volume_fraction"), std::optional<bool>(true));
   params["water"] = {{"initial", {{{"type", "pool"}, {"height", 0.3}}}}};  // the defaults
   const auto defaults = test::make_fluid(params);
-  EXPECT_EQ(enabled(*defaults, "cell_centred_level_set"), std::optional<bool>(true));
   EXPECT_EQ(enabled(*defaults, "volume_fraction"), std::optional<bool>(true));
-  params["water"]["level_set"] = "nodes";
-  params["water"]["volume_fraction"] = false;
-  EXPECT_EQ(enabled(*test::make_fluid(params), "cell_centred_level_set"),
-            std::optional<bool>(false));
 }
 
 TEST(WaterOnCells, ADomainOneCellThinIsRefusedNamingThePath) {
   nlohmann::json pool = {{{"type", "pool"}, {"height", 0.3}}};
   nlohmann::json flat = {{"resolution", 8},
                          {"domain", {{"min", {0, 0, 0}}, {"max", {1.0, 1.0, 0.01}}}},
-                         {"water", {{"level_set", "cells"}, {"initial", pool}}}};
+                         {"water", {{"initial", pool}}}};
   const std::string thin = test::validate_refusal(flat);
   EXPECT_NE(thin.find("/fluid/resolution"), std::string::npos) << thin;
   EXPECT_NE(thin.find("two cells"), std::string::npos) << thin;
@@ -559,8 +508,7 @@ TEST(WaterOnCells, ADomainOneCellThinIsRefusedNamingThePath) {
       {"boundary",
        {{"y_max", {{"type", "open"}}}, {"x_min", {{"type", "inflow"}, {"velocity", {0.5, 0, 0}}}}}},
       {"water",
-       {{"level_set", "cells"},
-        {"initial", pool},
+       {{"initial", pool},
         {"sources", {{{"shape", "sphere"}, {"center", {0.5, 0.5, 0.5}}, {"radius", 0.1}}}}}}};
   EXPECT_NO_THROW(test::make_fluid(taken));
 }

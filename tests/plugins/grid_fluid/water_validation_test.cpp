@@ -59,7 +59,7 @@ struct StandingWave {
 /// volume drift) and the other modes; the period is from its zero crossings. `trace`: the
 /// water's "trace" (which velocity φ's rays follow).
 StandingWave run_standing_wave(int cells_per_wavelength, double h, double amplitude, double periods,
-                               const char* trace = "midpoint", const char* layout = "nodes") {
+                               const char* trace = "midpoint", const char* layout = "fraction") {
   const double dx = 1.0 / cells_per_wavelength;
   const int nx = cells_per_wavelength / 2;  // L = λ/2
   const double length = nx * dx;
@@ -152,7 +152,7 @@ StandingWave run_standing_wave(int cells_per_wavelength, double h, double amplit
 /// frequency's amplitude correction, O((kA)²) (Tadjbakhsh and Keller 1960), is of order 0.2%
 /// or less), six periods. Returns the largest |period error|.
 double standing_wave_sweep(int cells_per_wavelength, const char* name,
-                           const char* layout = "nodes") {
+                           const char* layout = "fraction") {
   const double dx = 1.0 / cells_per_wavelength;
   double worst = 0.0, decay = 0.0, drift = 0.0;
   for (int j = 0; j < 8; ++j) {
@@ -175,19 +175,19 @@ double standing_wave_sweep(int cells_per_wavelength, const char* name,
   return worst;
 }
 
-/// The known answers below hold on either of φ's layouts ("level_set"), and on cells with a
-/// volume fraction ("fraction"), with the same bounds.
+/// The known answers below hold on the level set alone ("cells") and with a volume fraction
+/// ("fraction", the default), with the same bounds.
 class WaterValidation : public ::testing::TestWithParam<const char*> {
  protected:
   std::string key(const char* name) const { return std::string(name) + "_" + GetParam(); }
 };
 
-INSTANTIATE_TEST_SUITE_P(Layouts, WaterValidation, ::testing::Values("nodes", "cells", "fraction"),
+INSTANTIATE_TEST_SUITE_P(Layouts, WaterValidation, ::testing::Values("cells", "fraction"),
                          [](const auto& info) { return std::string(info.param); });
 
 TEST_P(WaterValidation, StandingWavePeriodFollowsLinearTheoryAt32CellsPerWavelength) {
   // The bound: the period within 2% of ω² = g k tanh(k h) at 32 cells per wavelength.
-  // Measured: −0.46 to +0.66% over the sweep (−0.55 to +0.50% with the node's own velocity
+  // Measured: −0.46 to +0.66% over the sweep (−0.55 to +0.50% with the sample's own velocity
   // along φ's rays). With the paper's constant extrapolation
   // (∇φ·∇u = 0, "extrapolation_profile": "constant") the period depended on where the mean
   // surface sits in its cell, +0.5, +1.6, +2.8, +3.3, +2.6, +1.4, +0.2, +0.0% for
@@ -196,22 +196,22 @@ TEST_P(WaterValidation, StandingWavePeriodFollowsLinearTheoryAt32CellsPerWavelen
   // amplitude change over six periods is −5.0 to −1.2% per period (mean −2.8%: it grows
   // slightly, a beat with other modes; −1.2% with constant extrapolation); the volume
   // drifts by at most 5.5e-4 of itself per second (1.4e-3 while φ's rays followed the
-  // node's own velocity, whose traced water grows in irrotational flow).
+  // sample's own velocity, whose traced water grows in irrotational flow).
   EXPECT_LT(std::abs(standing_wave_sweep(32, key("32").c_str(), GetParam())), 0.02);
 }
 
 TEST(WaterValidationSlow, StandingWavePeriodFollowsLinearTheoryAt64CellsPerWavelength) {
   // The 2% bound at twice its resolution (measured: −0.47 to +0.18% over the sweep,
-  // −0.49 to +0.14% with the node's own velocity along φ's rays,
+  // −0.49 to +0.14% with the sample's own velocity along φ's rays,
   // −0.2 to +1.5% with constant extrapolation; the volume drift at most 1.3e-4 of itself
-  // per second, 2.9e-4 with the node's own velocity along φ's rays).
+  // per second, 2.9e-4 with the sample's own velocity along φ's rays).
   EXPECT_LT(std::abs(standing_wave_sweep(64, "64")), 0.02);
 }
 
 TEST_P(WaterValidation, StandingWaveOneCellHighKeepsItsVolume) {
   // The same wave one cell high (kA = 0.2), six periods at 32 cells per wavelength, the mean
   // level 0.375Δx above a plane of faces. Water is incompressible: its volume is constant.
-  // φ's semi-Lagrangian ray back along the node's own velocity (Euler, the paper's) is the
+  // φ's semi-Lagrangian ray back along the sample's own velocity (Euler, the paper's) is the
   // map x → x − u dt, whose Jacobian is 1 + dt² det(∇u) + O(dt³) for a divergence-free u;
   // in irrotational flow det(∇u) = −|∇u|²/2 in 2D, so the traced water grows by
   // O(dt |∇u|²) a second. Measured: +1.83e-2 a second with the Euler ray, +1.6e-3 with the
@@ -223,7 +223,7 @@ TEST_P(WaterValidation, StandingWaveOneCellHighKeepsItsVolume) {
   const StandingWave euler = run_standing_wave(32, h, 1.0, 6.0, "euler", GetParam());
   std::printf(
       "[  figure  ] standing wave one cell high, 32 cells/wavelength: volume %+.2e/s traced "
-      "from the midpoint, %+.2e/s along the node's own velocity\n",
+      "from the midpoint, %+.2e/s along the sample's own velocity\n",
       midpoint.volume_drift, euler.volume_drift);
   report(key("standing_wave_one_cell_volume_drift_per_s").c_str(), midpoint.volume_drift);
   EXPECT_LT(std::abs(midpoint.volume_drift), 3e-3);
@@ -302,7 +302,7 @@ struct DamBreak {
 /// wall of a closed tank 1 × 0.625 × 0.0625 m (4a long) at `resolution` cells across, PCG to
 /// 1e-5, run at CFL `cfl` until T = t√(2g/a) = 3 (the front then nears the far wall, Z = 4);
 /// the front read on node row `row`. Prints the comparison with Martin and Moyce.
-DamBreak run_dam_break(int resolution, int row, double cfl, const char* layout = "nodes") {
+DamBreak run_dam_break(int resolution, int row, double cfl, const char* layout = "fraction") {
   const double a = 0.25;
   const nlohmann::json params = {
       {"domain", {{"min", {0, 0, 0}}, {"max", {1.0, 0.625, 0.0625}}}},

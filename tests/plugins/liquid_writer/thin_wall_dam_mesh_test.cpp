@@ -1,8 +1,7 @@
 // The liquid mesh of grid_fluid's thin-wall dam (configs/verify/water_thin_wall_dam.json
 // at 16^3): a tank split by a static plate at x = 0.5 + Δx/3, water on the −x side. The
-// water is filled to x = 0.55, past the plate, as a careless initial box would: the
-// node at 0.5 is wet (φ = −0.05), the one at 0.5625 behind the plate dry (φ = 0.0125),
-// and the nodal φ's zero crossing lies behind the plate. After 0.5 s of simulation, the
+// water is filled to x = 0.55, past the plate, as a careless initial box would: φ's zero
+// crossing lies behind the plate. After 0.5 s of simulation, the
 // mesh of the fluid's own φ (without the plate) bridges it; with the plate, no triangle
 // meets it (exact: counts), and on the level set alone every vertex is on the wet side. A
 // volume fraction keeps the sliver the box put behind the plate as water, which runs down
@@ -17,11 +16,11 @@
 namespace shellflow::liquid_writer {
 namespace {
 
-/// On each water core (grid_fluid::test::water_core): φ's nodes, its cells (whose mesh closes
-/// on the walls through ghost layers) and the cells with a volume fraction (the default).
+/// On each water core (grid_fluid::test::water_core): the level set alone (whose mesh closes
+/// on the walls through ghost layers) and with a volume fraction (the default).
 class ThinWallDamMesh : public ::testing::TestWithParam<const char*> {};
 
-INSTANTIATE_TEST_SUITE_P(Layouts, ThinWallDamMesh, ::testing::Values("nodes", "cells", "fraction"),
+INSTANTIATE_TEST_SUITE_P(Layouts, ThinWallDamMesh, ::testing::Values("cells", "fraction"),
                          [](const auto& info) { return std::string(info.param); });
 
 TEST_P(ThinWallDamMesh, NoTriangleJoinsTheWetSideToTheDrySide) {

@@ -22,17 +22,31 @@ grid::UniformGrid LevelSet::cell_centre_lattice(const grid::UniformGrid& mac) {
                            mac.cells() - Eigen::Vector3i::Ones());
 }
 
-grid::Location LevelSet::lattice_location(const grid::UniformGrid& lattice,
-                                          const grid::UniformGrid& mac) {
-  if (lattice.counts(Location::Node) == mac.counts(Location::Node)) return Location::Node;
-  if (lattice.counts(Location::Node) == mac.counts(Location::Cell)) return Location::Cell;
-  throw std::invalid_argument("LevelSet: a lattice that is neither the grid's nodes nor its cells");
+namespace {
+
+/// `band`'s samples for φ's lattice: its cells, whose centres are the lattice's nodes.
+void require_cell_lattice(const geometry::ShellBand& band, const grid::UniformGrid& lattice) {
+  if (lattice.counts(Location::Node) != band.grid().counts(Location::Cell))
+    throw std::invalid_argument("LevelSet: a lattice that is not the band's cell centres");
 }
 
-LevelSet::LevelSet(const grid::UniformGrid& grid, double band, Layout layout)
-    : m_layout(layout),
-      m_mac(grid),
-      m_grid(layout == Layout::Cells ? cell_centre_lattice(grid) : grid),
+}  // namespace
+
+std::span<const std::uint8_t> LevelSet::band_flags(const geometry::ShellBand& band,
+                                                   const grid::UniformGrid& lattice) {
+  require_cell_lattice(band, lattice);
+  return band.flags(Location::Cell);
+}
+
+std::span<const std::int64_t> LevelSet::band_samples(const geometry::ShellBand& band,
+                                                     const grid::UniformGrid& lattice) {
+  require_cell_lattice(band, lattice);
+  return band.samples(Location::Cell);
+}
+
+LevelSet::LevelSet(const grid::UniformGrid& grid, double band)
+    : m_mac(grid),
+      m_grid(cell_centre_lattice(grid)),
       m_band(band),
       m_phi(m_grid.size(Location::Node), band) {}
 
@@ -41,66 +55,6 @@ double LevelSet::sample(const Eigen::Vector3d& p) const {
   double v = 0.0;
   for (int c = 0; c < 8; ++c) v += st.weight(c) * m_phi[st.corner(m_grid, c)];
   return v;
-}
-
-void LevelSet::cell_values(std::vector<double>& out, const std::array<bool, 6>& walls) const {
-  if (m_layout == Layout::Cells) {
-    out = m_phi;
-    return;
-  }
-  const Eigen::Vector3i n = m_grid.cells();
-  const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
-  const std::int64_t sy = nodes.x(), sz = std::int64_t(nodes.x()) * nodes.y();
-  out.resize(m_grid.size(Location::Cell));
-#pragma omp parallel for collapse(2) schedule(static)
-  for (int k = 0; k < n.z(); ++k)
-    for (int j = 0; j < n.y(); ++j)
-      for (int i = 0; i < n.x(); ++i) {
-        const std::int64_t o = m_grid.index(Location::Node, i, j, k);
-        const double* p = m_phi.data() + o;
-        out[m_grid.index(Location::Cell, i, j, k)] =
-            0.125 *
-            (p[0] + p[1] + p[sy] + p[sy + 1] + p[sz] + p[sz + 1] + p[sz + sy] + p[sz + sy + 1]);
-      }
-  if (std::none_of(walls.begin(), walls.end(), [](bool w) { return w; })) return;
-  // Cells against a wall: their wall corners no drier than the nodes inside them.
-  const auto on_wall = [&](const Eigen::Vector3i& node, int a) {
-    return (walls[2 * a] && node[a] == 0) || (walls[2 * a + 1] && node[a] == nodes[a] - 1);
-  };
-  const auto wall_aware = [&](const Eigen::Vector3i& node) {
-    double value = m_phi[m_grid.index(Location::Node, node)];
-    for (int a = 0; a < 3; ++a) {
-      if (!on_wall(node, a) || nodes[a] < 2) continue;
-      const int inward = node[a] == 0 ? 1 : -1;
-      Eigen::Vector3i inner = node;
-      inner[a] += inward;
-      const double first = m_phi[m_grid.index(Location::Node, inner)];
-      double extrapolated = first;  // constant across a one-cell domain
-      if (nodes[a] >= 3) {
-        inner[a] += inward;
-        extrapolated = 2.0 * first - m_phi[m_grid.index(Location::Node, inner)];
-      }
-      value = std::min(value, extrapolated);
-    }
-    return value;
-  };
-  const auto fix = [&](int i, int j, int k) {
-    double sum = 0.0;
-    for (int corner = 0; corner < 8; ++corner)
-      sum += wall_aware(Eigen::Vector3i(i + (corner & 1), j + (corner >> 1 & 1), k + (corner >> 2)));
-    out[m_grid.index(Location::Cell, i, j, k)] = 0.125 * sum;
-  };
-  // Only the cells of the box's outer layer touch a wall.
-  for (int k = 0; k < n.z(); ++k)
-    for (int j = 0; j < n.y(); ++j) {
-      const bool rim = k == 0 || k == n.z() - 1 || j == 0 || j == n.y() - 1;
-      if (rim) {
-        for (int i = 0; i < n.x(); ++i) fix(i, j, k);
-      } else {
-        fix(0, j, k);
-        if (n.x() > 1) fix(n.x() - 1, j, k);
-      }
-    }
 }
 
 namespace {
@@ -114,16 +68,6 @@ double water_fraction(double phi, double eps) {
 }
 
 }  // namespace
-
-double LevelSet::node_weight(std::int64_t node) const {
-  if (m_layout == Layout::Cells) return 1.0;
-  const Eigen::Vector3i n = m_grid.counts(Location::Node);
-  const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, node);
-  double w = 1.0;
-  for (int a = 0; a < 3; ++a)
-    if (ijk[a] == 0 || ijk[a] == n[a] - 1) w *= 0.5;
-  return w;
-}
 
 namespace {
 
@@ -161,15 +105,6 @@ double tetrahedron_water_fraction(const std::array<double, 4>& phi) {
 /// c = i + 2j + 4k), one per order of the three axes: they tile the cube, 1/6 each.
 constexpr std::array<std::array<int, 4>, 6> kCubeTetrahedra = {
     {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7}, {0, 2, 6, 7}, {0, 4, 5, 7}, {0, 4, 6, 7}}};
-
-/// The water fraction of the cell whose corner 0 is node `base` (corner c at base +
-/// offset[c]).
-double cell_fraction_at(const double* phi, std::int64_t base,
-                        const std::array<std::int64_t, 8>& offset) {
-  std::array<double, 8> corner;
-  for (int c = 0; c < 8; ++c) corner[c] = phi[base + offset[c]];
-  return LevelSet::cell_fraction(corner);
-}
 
 /// A tetrahedron: its corners (in cell units) and a linear field's values there.
 struct Tetrahedron {
@@ -263,25 +198,6 @@ double LevelSet::volume() const {
 
 double LevelSet::volume(const grid::IndexBox& cells) const {
   if (cells.empty()) return 0.0;
-  if (m_layout == Layout::Cells) return cell_centred_volume(cells);
-  const std::array<std::int64_t, 8> offset = node_corner_offsets(m_grid);
-  const int rows_y = cells.hi.y() - cells.lo.y() + 1;
-  const std::int64_t rows = std::int64_t(rows_y) * (cells.hi.z() - cells.lo.z() + 1);
-  // One term per row of cells along x, each summed in order: the same bits on any
-  // number of threads (ordered_sum).
-  const double sum = ordered_sum(rows, [&](std::int64_t r) {
-    const int j = cells.lo.y() + int(r % rows_y), k = cells.lo.z() + int(r / rows_y);
-    const std::int64_t first = m_grid.index(Location::Node, cells.lo.x(), j, k);
-    double row = 0.0;
-    for (int i = 0; i <= cells.hi.x() - cells.lo.x(); ++i)
-      row += cell_fraction_at(m_phi.data(), first + i, offset);
-    return row;
-  });
-  const double dx = m_grid.dx();
-  return sum * dx * dx * dx;
-}
-
-double LevelSet::cell_centred_volume(const grid::IndexBox& cells) const {
   // Lattice cell d (d = 0..n per axis) lies between centres d − 1 and d, clamped at the
   // sides (constant continuation), and covers MAC-cell coordinates [d − ½, d + ½].
   const Eigen::Vector3i n = m_grid.counts(Location::Node);
@@ -318,13 +234,13 @@ double LevelSet::symmetric_difference(const std::vector<double>& other) const {
   const double eps = 1.5 * m_grid.dx();
   const double sum = ordered_sum(static_cast<std::int64_t>(m_phi.size()), [&](std::int64_t node) {
     const double d = std::abs(water_fraction(m_phi[node], eps) - water_fraction(other[node], eps));
-    return d > 0.0 ? node_weight(node) * d : 0.0;
+    return d;
   });
   const double dx = m_grid.dx();
   return sum * dx * dx * dx;
 }
 
-std::int64_t LevelSet::liquid_nodes() const {
+std::int64_t LevelSet::liquid_cells() const {
   std::int64_t count = 0;
   const std::int64_t n = static_cast<std::int64_t>(m_phi.size());
 #pragma omp parallel for schedule(static) reduction(+ : count)

@@ -32,13 +32,18 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-LevelSet::Layout layout_of(const nlohmann::json& params, const grid::UniformGrid& grid) {
-  if (params.at("level_set").get<std::string>() != "cells") return LevelSet::Layout::Nodes;
+/// The MAC grid, once the scene is known to fit cell-centred water.
+const grid::UniformGrid& water_grid(const nlohmann::json& params, const grid::UniformGrid& grid) {
+  if (params.at("level_set").get<std::string>() != "cells")
+    throw ConfigError("/water/level_set",
+                      "the level set on the grid's nodes (\"nodes\") was removed: water's φ "
+                      "lives on the cell centres, which keep water that reaches a wall "
+                      "(docs/water-cell-centres.md). Delete the key, or set it to \"cells\"");
   if ((grid.cells().array() < 2).any())
     throw ConfigError("/resolution",
-                      "cell-centred water (/water/level_set = cells) needs two cells along every "
-                      "axis of the domain: raise the resolution or widen the domain's thin side");
-  return LevelSet::Layout::Cells;
+                      "water needs two cells along every axis of the domain: raise the "
+                      "resolution or widen the domain's thin side");
+  return grid;
 }
 
 }  // namespace
@@ -51,13 +56,11 @@ sdk::Schema Liquid::schema() {
       .field("level_set",
              Schema::string("cells")
                  .one_of({"nodes", "cells"})
-                 .doc("where φ is sampled. cells: one sample per pressure cell, traced with the "
+                 .doc("where φ is sampled: cells, one sample per pressure cell, traced with the "
                       "faces' velocities (PhysBAM's); water that reaches a wall stays, and an "
                       "open or inflow side lets none in (where its face's velocity points "
-                      "inward the water pulls away from it). Shells cut cells as they cut the "
-                      "nodes' stencils (§3, §4.4). nodes: the grid's nodes (the paper's "
-                      "§4.4.1), to be removed; water landing on a dry wall of the domain is "
-                      "lost there, and it takes no volume fraction "
+                      "inward the water pulls away from it). nodes, the grid's nodes (the "
+                      "paper's §4.4.1), was removed and is refused naming the change "
                       "(docs/water-cell-centres.md)"))
       .field("volume_fraction",
              Schema::boolean(true).doc(
@@ -101,17 +104,20 @@ sdk::Schema Liquid::schema() {
                       "trilinear step, which smooths φ so that curved water shrinks every "
                       "step unless particles correct it (§4.4.2). maccormack: traced forward "
                       "and back and corrected by half the round trip's error, clamped to the "
-                      "stencil (Selle et al. 2008), at twice the cost; keeps curved water's "
-                      "volume (with constant extrapolation a 64-cell dam break blew up: README, "
-                      "Known limits)"))
+                      "stencil (Selle et al. 2008), at twice the cost; sharper where φ is "
+                      "smooth (Zalesak's sphere), but on the level set alone it loses more than "
+                      "the trilinear step where water runs up walls in thin sheets, and with "
+                      "constant extrapolation a 64-cell dam break blew up "
+                      "(docs/known-limits.md). With the volume fraction the volume is F's "
+                      "either way"))
       .field("trace",
              Schema::string("midpoint")
                  .one_of({"midpoint", "euler"})
-                 .doc("which velocity a node's ray back follows when φ is advected. "
+                 .doc("which velocity a sample's ray back follows when φ is advected. "
                       "midpoint: the velocity at x − u dt/2 (second order in time). euler: "
-                      "the node's own, the paper's, whose traced water grows in "
+                      "the sample's own, the paper's, whose traced water grows in "
                       "irrotational flow by O(dt |∇u|²) a second (water sloshing in a tank "
-                      "+3.5 % in 4 s against −0.2 %; README, Known limits)"))
+                      "+3.5 % in 4 s against −0.2 %; docs/known-limits.md)"))
       .field("particles", ParticleLevelSet::schema())
       .field("volume_by_phase",
              Schema::boolean(false).doc(
@@ -130,14 +136,14 @@ sdk::Schema Liquid::schema() {
 Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
                const Eigen::Vector3d& up, double fps, const DomainBoundary& boundary,
                const Eigen::Vector3d& gravity)
-    : m_level_set(grid, params.at("band").get<double>() * grid.dx(), layout_of(params, grid)),
+    : m_level_set(water_grid(params, grid), params.at("band").get<double>() * grid.dx()),
       m_advector(m_level_set.grid(), params.at("advection").get<std::string>() == "maccormack",
                  params.at("trace").get<std::string>() == "euler"
                      ? LevelSetAdvector::Trace::Euler
                      : LevelSetAdvector::Trace::Midpoint),
       m_fast_marching(m_level_set.grid()),
       m_extrapolation(grid, params.at("extrapolation_profile").get<std::string>() == "linear"),
-      m_particles(params.at("particles"), m_level_set.grid(), fps, gravity, &grid) {
+      m_particles(params.at("particles"), grid, fps, gravity) {
   const double band = params.at("band").get<double>();
   const double width = params.at("extrapolation").get<double>();
   if (!(width < band))
@@ -152,8 +158,7 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
     m_open[s] = boundary.side(s / 2, s % 2).type == BoundaryType::Open;
   }
   m_particles.set_walls(m_walls);
-  if (cell_centred())
-    m_centre_velocity = NodeFields(m_level_set.grid(), 0.0, /*smoke=*/false, /*temperature=*/false);
+  m_centre_velocity = NodeFields(m_level_set.grid(), 0.0, /*smoke=*/false, /*temperature=*/false);
   fill_initial_water(params.at("initial"), up, "/water/initial", m_level_set);
   const auto& sources = params.at("sources");
   for (size_t i = 0; i < sources.size(); ++i) {
@@ -170,11 +175,6 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), ShellGeometry(), nullptr);
   m_marched_hash = bytes_hash(m_level_set.phi());
   if (params.at("volume_fraction").get<bool>()) {
-    if (!cell_centred())
-      throw ConfigError("/water/volume_fraction",
-                        "a volume fraction (on by default) needs cell-centred φ: set "
-                        "/water/level_set to \"cells\" (the default), or /water/volume_fraction "
-                        "to false to keep φ on the nodes");
     m_fraction = VolumeFraction(m_level_set);
     m_fraction.set_open(m_open);
   }
@@ -281,24 +281,19 @@ std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double
   const std::int64_t count = grid.size(Location::Node);
   m_velocity_nodes.resize(count);
   if (reach >= m_level_set.band()) return {};  // the whole band: every node
-  if (cell_centred()) {
-    // A node lies within √3Δx/2 of the centres of its (up to 8) cells, and φ is a distance.
-    const Eigen::Vector3i cells = grid.cells();
-    const double node_reach = reach + 0.5 * std::sqrt(3.0) * grid.dx();
+  // A node lies within √3Δx/2 of the centres of its (up to 8) cells, and φ is a distance.
+  const Eigen::Vector3i cells = grid.cells();
+  const double node_reach = reach + 0.5 * std::sqrt(3.0) * grid.dx();
 #pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < count; ++i) {
-      const Eigen::Vector3i node = grid.coordinates(Location::Node, i);
-      double nearest = kInfinity;
-      for (int corner = 0; corner < 8; ++corner) {
-        const Eigen::Vector3i c =
-            (node - corner_step(corner)).cwiseMax(0).cwiseMin(cells - Eigen::Vector3i::Ones());
-        nearest = std::min(nearest, phi[grid.index(Location::Cell, c)]);
-      }
-      m_velocity_nodes[i] = nearest <= node_reach ? 1 : 0;
+  for (std::int64_t i = 0; i < count; ++i) {
+    const Eigen::Vector3i node = grid.coordinates(Location::Node, i);
+    double nearest = kInfinity;
+    for (int corner = 0; corner < 8; ++corner) {
+      const Eigen::Vector3i c =
+          (node - corner_step(corner)).cwiseMax(0).cwiseMin(cells - Eigen::Vector3i::Ones());
+      nearest = std::min(nearest, phi[grid.index(Location::Cell, c)]);
     }
-  } else {
-#pragma omp parallel for schedule(static)
-    for (std::int64_t i = 0; i < count; ++i) m_velocity_nodes[i] = phi[i] <= reach ? 1 : 0;
+    m_velocity_nodes[i] = nearest <= node_reach ? 1 : 0;
   }
   for (const auto& s : m_sources) {
     if (!s.active(t)) continue;
@@ -311,8 +306,7 @@ std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double
   return m_velocity_nodes;
 }
 
-const NodeFields& Liquid::particle_velocity(const NodeFields& nodes, const MacGrid& mac) {
-  if (!cell_centred()) return nodes;
+const NodeFields& Liquid::particle_velocity(const MacGrid& mac) {
   centre_velocities(mac);
   return m_centre_velocity;
 }
@@ -372,11 +366,11 @@ void Liquid::centre_velocities(const MacGrid& mac) {
   }
 }
 
-void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& mac, double dt,
-                    const ShellGeometry& shells, const geometry::ShellBand* band) {
+void Liquid::advect(double t, const MacGrid& mac, double dt, const ShellGeometry& shells,
+                    const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
-  if (cell_centred()) centre_velocities(mac);
-  const NodeFields& velocity = cell_centred() ? m_centre_velocity : node_velocity;
+  centre_velocities(mac);
+  const NodeFields& velocity = m_centre_velocity;
   m_stats = LiquidStats{};
   m_invalid.clear();
   if (m_by_phase) {
@@ -392,9 +386,7 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
   const grid::UniformGrid& grid = m_level_set.mac_grid();
   // With a volume fraction the budget counts what F carries out and what the emitters add
   // to it, exactly (below and add_sources()).
-  if (!m_fraction.enabled())
-    m_budget.outflow += cell_centred() ? open_side_outflow(m_level_set, mac, m_open, dt)
-                                       : open_side_outflow(m_level_set, velocity, m_open, dt);
+  if (!m_fraction.enabled()) m_budget.outflow += open_side_outflow(m_level_set, mac, m_open, dt);
   // An emitter with a velocity adds its fill (its first step) and then the flow its held
   // faces impose; one without, whatever apply() sets (its water leaves by the fluid's
   // velocity and apply() tops it up).
@@ -407,11 +399,11 @@ void Liquid::advect(double t, const NodeFields& node_velocity, const MacGrid& ma
     if (std::isnan(m_held_flow[i])) m_held_flow[i] = emitter_held_flow(grid, s, t);
     m_budget.added += m_held_flow[i] * dt;
   }
-  // On cells φ beyond an open or inflow side is air where its face's flow comes in.
+  // φ beyond an open or inflow side is air where its face's flow comes in.
   const BoundaryPhi* ghost = nullptr;
   std::array<bool, 6> ruled;  // the open and inflow sides
   for (int s = 0; s < 6; ++s) ruled[s] = !m_walls[s];
-  if (cell_centred() && ruled != std::array<bool, 6>{}) {
+  if (ruled != std::array<bool, 6>{}) {
     m_boundary_phi.update(m_level_set.grid(), mac, ruled);
     if (m_boundary_phi.any()) ghost = &m_boundary_phi;
   }
@@ -458,9 +450,9 @@ void Liquid::add_sources(double t, DomainBoundary& boundary) {
   m_stats.t_level_set += seconds_since(start);
 }
 
-void Liquid::carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFields& velocity,
-                               double dt, const ShellGeometry& shells_n,
-                               const ShellGeometry& shells) {
+void Liquid::carry_swept_cells(std::span<const std::int64_t> swept, double dt,
+                               const ShellGeometry& shells_n, const ShellGeometry& shells) {
+  const NodeFields& velocity = m_centre_velocity;  // what advect() traced with
   // Swept nodes hold φ from the other side of the shell (§3); they lie on the side the
   // shell moved away from. A swept node takes φ^n where the water there came from, on its
   // side of the shell then: back along the shell by its own (refilled) velocity, and
@@ -504,14 +496,12 @@ void Liquid::carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFi
   }
 }
 
-void Liquid::refill(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
-                    const ShellGeometry& shells_n, const ShellGeometry& shells) {
+void Liquid::refill(std::span<const std::int64_t> swept, double dt, const ShellGeometry& shells_n,
+                    const ShellGeometry& shells) {
   const auto start = std::chrono::steady_clock::now();
-  // On cells the swept centres move with the centres' velocities advect() traced with.
-  const NodeFields& u = cell_centred() ? m_centre_velocity : velocity;
-  if (!swept.empty()) carry_swept_nodes(swept, u, dt, shells_n, shells);
+  if (!swept.empty()) carry_swept_cells(swept, dt, shells_n, shells);
   for (const std::int64_t i : m_invalid) m_valid[i] = 0;
-  m_stats.invalid_nodes = static_cast<std::int64_t>(m_invalid.size());
+  m_stats.invalid_cells = static_cast<std::int64_t>(m_invalid.size());
   m_advector.refill(m_level_set.phi(), m_valid, m_invalid, shells);
   for (const std::int64_t i : m_invalid) m_valid[i] = 1;
   m_stats.t_level_set += seconds_since(start);
@@ -574,55 +564,8 @@ void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& sh
   }
 }
 
-const FreeSurface& Liquid::surface(const ShellGeometry& shells, const geometry::ShellBand* band) {
-  if (cell_centred()) {  // φ is the cells' own: read in place until the next advect()
-    m_surface.cell_phi = m_level_set.phi();
-    return m_surface;
-  }
-  m_level_set.cell_values(m_cell_phi, m_walls);
-  if (band != nullptr && !shells.empty()) {
-    // A shell-cut cell: only the corners its centre sees say whether it is water. Corners
-    // across the shell hold the other side's φ (air beneath a cup's bottom), and averaged
-    // in they made the first cell of water on a shell air, p = 0: a drain (§4.3). Pairs of
-    // opposite corners, both seen, come first: each pair's mean is exact at the centre for
-    // a linear φ, so a still surface cut by a shell keeps its height; with no such pair,
-    // the mean of the corners seen. Not the advection's linear continuation: water nodes
-    // held against a moving wall keep a small |φ|, which it reads as the water ending there.
-    const grid::UniformGrid& grid = m_level_set.grid();
-    const auto& phi = m_level_set.phi();
-    const auto list = band->samples(Location::Cell);
-    const std::int64_t m = static_cast<std::int64_t>(list.size());
-#pragma omp parallel for schedule(dynamic, 256)
-    for (std::int64_t s = 0; s < m; ++s) {
-      const std::int64_t cell = list[s];
-      const Eigen::Vector3i c = grid.coordinates(Location::Cell, cell);
-      const Eigen::Vector3d centre = grid.position(Location::Cell, c);
-      double value[8];
-      bool seen[8];
-      for (int corner = 0; corner < 8; ++corner) {
-        const Eigen::Vector3i node = c + corner_step(corner);
-        seen[corner] = shells.visible(centre, grid.position(Location::Node, node));
-        value[corner] = phi[grid.index(Location::Node, node)];
-      }
-      double pairs = 0.0, single = 0.0;
-      int pair_count = 0, single_count = 0;
-      for (int corner = 0; corner < 8; ++corner) {
-        if (!seen[corner]) continue;
-        single += value[corner];
-        ++single_count;
-        if (corner < 4 && seen[7 - corner]) {
-          pairs += value[corner] + value[7 - corner];
-          pair_count += 2;
-        }
-      }
-      if (pair_count > 0) {
-        m_cell_phi[cell] = pairs / pair_count;
-      } else if (single_count > 0) {
-        m_cell_phi[cell] = single / single_count;
-      }
-    }
-  }
-  m_surface.cell_phi = m_cell_phi;
+const FreeSurface& Liquid::surface() {
+  m_surface.cell_phi = m_level_set.phi();  // read in place until the next advect()
   return m_surface;
 }
 
@@ -637,19 +580,14 @@ double Liquid::volume(const ShellGeometry* shells, const geometry::ShellBand* ba
   const grid::UniformGrid& grid = m_level_set.grid();
   const auto& phi = m_level_set.phi();
   const double dx = grid.dx();
-  // φ's lattice cells near the shells: the band's cells, or on cells the lattice cells
-  // whose centres are the band's inner nodes (the half-cell strips at the domain's faces
-  // hold no shell correction).
-  const Location band_location = cell_centred() ? Location::Node : Location::Cell;
-  const auto list = band->samples(band_location);
+  // φ's lattice cells near the shells: those whose centres are the band's inner nodes (the
+  // half-cell strips at the domain's faces hold no shell correction).
+  const auto list = band->samples(Location::Node);
   const grid::UniformGrid& mac = m_level_set.mac_grid();
   const std::int64_t m = static_cast<std::int64_t>(list.size());
   const double correction = ordered_sum(m, [&](std::int64_t s) -> double {
-    Eigen::Vector3i c = mac.coordinates(band_location, list[s]);
-    if (cell_centred()) {
-      c -= Eigen::Vector3i::Ones();
-      if ((c.array() < 0).any() || (c.array() >= grid.cells().array()).any()) return 0.0;
-    }
+    const Eigen::Vector3i c = mac.coordinates(Location::Node, list[s]) - Eigen::Vector3i::Ones();
+    if ((c.array() < 0).any() || (c.array() >= grid.cells().array()).any()) return 0.0;
     const Eigen::Vector3d centre = grid.position(Location::Cell, c);
     const NodeStencil st{c, Eigen::Vector3d::Constant(0.5)};
     std::array<double, 8> own, seen, across, side;
@@ -722,10 +660,9 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
   const Eigen::Vector3i cells = grid.cells();
   const auto& phi = m_level_set.phi();
   for (int a = 0; a < 3; ++a) {
-    // Known: Neumann faces and the faces the projection set. On nodes those are all the faces
-    // next to a liquid cell; on cells only those whose φ, the mean of their two cells', is
-    // water (PhysBAM's seeds): a face whose surface lies nearer the liquid centre than
-    // halfway, θ < ½, took the ghost-fluid update u −= Δp/θ, large as θ → 0, and is
+    // Known: Neumann faces and the faces the projection set whose φ, the mean of their two
+    // cells', is water (PhysBAM's seeds): a face whose surface lies nearer the liquid centre
+    // than halfway, θ < ½, took the ghost-fluid update u −= Δp/θ, large as θ → 0, and is
     // continued from the water like the air's faces.
     const Location loc = face_location(a);
     const Eigen::Vector3i n = grid.counts(loc);
@@ -739,15 +676,12 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
           Eigen::Vector3i c(i, j, k);
           const std::int64_t f = grid.index(loc, c);
           bool set = neumann[f] != 0;
-          if (!set && cell_centred()) {
+          if (!set) {
             // A domain face's φ is its one cell's (constant continuation).
             const Eigen::Vector3i upper = c.cwiseMin(cells - Eigen::Vector3i::Ones());
             c[a] = std::max(c[a] - 1, 0);
-            set = phi[grid.index(Location::Cell, upper)] + phi[grid.index(Location::Cell, c)] <= 0.0;
-          } else if (!set) {
-            if (c[a] < cells[a]) set = projection.fluid_cell(grid.index(Location::Cell, c));
-            c[a] -= 1;
-            if (!set && c[a] >= 0) set = projection.fluid_cell(grid.index(Location::Cell, c));
+            set =
+                phi[grid.index(Location::Cell, upper)] + phi[grid.index(Location::Cell, c)] <= 0.0;
           }
           // 2: a wall's, inflow side's or emitter's face, 3: a shell's.
           known[f] = neumann[f] == 2 ? 3 : neumann[f] != 0 ? 2 : set ? 1 : 0;

@@ -89,18 +89,17 @@ sdk::Schema ParticleLevelSet::schema() {
       .field("seed", Schema::integer(0).min(0).doc("random seed of the particle positions"));
 }
 
-ParticleLevelSet::ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& grid,
-                                   double fps, const Eigen::Vector3d& gravity,
-                                   const grid::UniformGrid* domain)
-    : m_grid(grid),
-      m_domain(domain ? *domain : grid),
-      m_sampler(grid),
+ParticleLevelSet::ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& domain,
+                                   double fps, const Eigen::Vector3d& gravity)
+    : m_grid(LevelSet::cell_centre_lattice(domain)),
+      m_domain(domain),
+      m_sampler(m_grid),
       m_gravity(gravity) {
   m_per_cell = params.at("per_cell").get<int>();
   m_reseed_every = params.at("reseed_every").get<int>();
   m_seed = params.at("seed").get<std::uint64_t>();
   m_fps = fps;
-  const double dx = grid.dx();
+  const double dx = domain.dx();
   m_band = 3.0 * dx;
   m_r_min = 0.1 * dx;
   m_r_max = 0.5 * dx;
@@ -236,8 +235,6 @@ void ParticleLevelSet::seed_cells(const LevelSet& phi, const ShellGeometry& shel
       if (++c > 2 * m_per_cell) keep[i] = 0;
     }
   compact(keep);
-  const auto& p = phi.phi();
-  const bool on_nodes = phi.layout() == LevelSet::Layout::Nodes;
   const std::int64_t before = size();
   const double dx = m_grid.dx();
   // A band cell: one of its corners within 3Δx of the surface (Enright et al. 2002).
@@ -252,11 +249,10 @@ void ParticleLevelSet::seed_cells(const LevelSet& phi, const ShellGeometry& shel
         double nearest = std::numeric_limits<double>::infinity();
         for (int c = 0; c < 8; ++c) {
           const Eigen::Vector3i corner(i + (c & 1), j + ((c >> 1) & 1), k + (c >> 2));
-          // On cells, the corners' φ as the lattice interpolates it (continued beyond the
-          // outer centres), so that the strips along the walls are seeded too.
-          nearest = std::min(nearest,
-                             std::abs(on_nodes ? p[m_grid.index(Location::Node, corner)]
-                                               : phi.sample(m_domain.position(Location::Node, corner))));
+          // The corners' φ as the lattice interpolates it (continued beyond the outer
+          // centres), so that the strips along the walls are seeded too.
+          nearest =
+              std::min(nearest, std::abs(phi.sample(m_domain.position(Location::Node, corner))));
         }
         if (nearest < m_band) band.push_back(cell);
       }

@@ -15,9 +15,6 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
     double width, const ShellGeometry& shells, const geometry::ShellBand* band) {
   ExtrapolationStats stats;
   const auto& phi = level_set.phi();
-  const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
-  const std::int64_t node_stride[3] = {1, nodes.x(), std::int64_t(nodes.x()) * nodes.y()};
-  const bool on_cells = level_set.layout() == LevelSet::Layout::Cells;
   const Eigen::Vector3i cells = m_grid.cells();
   for (int a = 0; a < 3; ++a) {
     const Location loc = face_location(a);
@@ -29,24 +26,16 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
     auto& u = mac.face_velocity(a);
     m_face_phi.resize(count);
     m_valid.resize(count);
-    // The two axes spanning the face: its four nodes are at +0/+1 along each.
-    const int b = (a + 1) % 3, c = (a + 2) % 3;
     std::int64_t known_count = 0;
 #pragma omp parallel for schedule(static) reduction(+ : known_count)
     for (std::int64_t f = 0; f < count; ++f) {
       const Eigen::Vector3i ijk = m_grid.coordinates(loc, f);
-      if (on_cells) {
-        // The mean of its two cells; a domain face's, its one cell's (constant continuation).
-        Eigen::Vector3i lower = ijk, upper = ijk;
-        lower[a] = std::max(ijk[a] - 1, 0);
-        upper[a] = std::min(ijk[a], cells[a] - 1);
-        m_face_phi[f] = 0.5 * (phi[m_grid.index(Location::Cell, lower)] +
-                               phi[m_grid.index(Location::Cell, upper)]);
-      } else {
-        const std::int64_t o = m_grid.index(Location::Node, ijk);
-        m_face_phi[f] = 0.25 * (phi[o] + phi[o + node_stride[b]] + phi[o + node_stride[c]] +
-                                phi[o + node_stride[b] + node_stride[c]]);
-      }
+      // The mean of its two cells; a domain face's, its one cell's (constant continuation).
+      Eigen::Vector3i lower = ijk, upper = ijk;
+      lower[a] = std::max(ijk[a] - 1, 0);
+      upper[a] = std::min(ijk[a], cells[a] - 1);
+      m_face_phi[f] = 0.5 * (phi[m_grid.index(Location::Cell, lower)] +
+                             phi[m_grid.index(Location::Cell, upper)]);
       m_valid[f] = known[a][f] != 0 ? 1 : 0;
       known_count += known[a][f] != 0 ? 1 : 0;
     }

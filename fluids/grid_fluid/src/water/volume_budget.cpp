@@ -58,56 +58,11 @@ void add_layer_wet(const std::array<double, 4>& near, const std::array<double, 4
   }
 }
 
-/// The water [m^3] that node velocities constant over a step of dt carry across the face of
-/// family `axis` whose + side cell is `face`, towards `outward` (±1; negative: the other
-/// way): what lies within |u_n| dt of it upstream (u_n the mean outward velocity of its
-/// four nodes; upstream beyond the domain, its last plane of nodes, as the advection reads
-/// it), the face's wet fraction integrated over that depth. Swept so, not as a rate: a
-/// surface passes a face within a step, and a rate at either end of the step then counts
-/// it half.
-double swept_across_face(const LevelSet& level_set, const NodeFields& velocity, int axis,
-                         const Eigen::Vector3i& face, double outward, double dt) {
-  const grid::UniformGrid& grid = level_set.grid();
-  const int b = (axis + 1) % 3, c = (axis + 2) % 3;
-  const auto& u = velocity.velocity(axis);
-  std::array<std::int64_t, 4> corner;
-  double normal = 0.0;
-  for (int m = 0; m < 4; ++m) {
-    Eigen::Vector3i node = face;
-    node[b] += m & 1;
-    node[c] += m >> 1;
-    corner[m] = grid.index(Location::Node, node);
-    normal += 0.25 * outward * u[corner[m]];
-  }
-  if (normal == 0.0) return 0.0;
-  const double dx = grid.dx();
-  const double depth = std::abs(normal) * dt;
-  // Upstream, layer by layer of cells: the cross-section's φ is linear in the distance.
-  const int planes = grid.counts(Location::Node)[axis];
-  const std::int64_t stride = grid.index(Location::Node, Eigen::Vector3i::Unit(axis)) -
-                              grid.index(Location::Node, Eigen::Vector3i::Zero());
-  const int step = (normal > 0.0) == (outward > 0.0) ? -1 : 1;  // upstream, in planes
-  const auto& phi = level_set.phi();
-  double wet = 0.0;
-  for (int layer = 0; layer * dx < depth; ++layer) {
-    // Beyond the domain's last plane the section is held.
-    const int p0 = std::clamp(face[axis] + step * layer, 0, planes - 1);
-    const int p1 = std::clamp(face[axis] + step * (layer + 1), 0, planes - 1);
-    std::array<double, 4> near, far;
-    for (int m = 0; m < 4; ++m) {
-      const std::int64_t base = corner[m] - std::int64_t(face[axis]) * stride;
-      near[m] = phi[base + p0 * stride];
-      far[m] = phi[base + p1 * stride];
-    }
-    add_layer_wet(near, far, std::min(1.0, depth / dx - layer), wet);  // in cells
-  }
-  return std::copysign(wet * dx * dx * dx, normal);
-}
-
 /// The water [m^3] that the face velocity u_f on an open side's face (family `axis`, at
 /// coordinates `ijk`; `max_side`: on the box's max face) carries out of the domain over dt,
 /// from the cell-centred φ: nothing where u_f points in, else the face's wet fraction
-/// integrated over the depth u_f dt upstream, as swept_across_face does. The section's
+/// integrated over the depth u_f dt upstream (swept so, not as a rate: a surface passes a
+/// face within a step, and a rate at either end of the step counts it half). The section's
 /// corners (MAC nodes) take the mean of the four rows of centres about them (clamped at
 /// the sides); along the normal φ is linear between planes of centres.
 double swept_out_of_cells(const LevelSet& level_set, const MacGrid& mac, int axis,
@@ -167,11 +122,10 @@ grid::IndexBox emitter_reach(const LevelSet& level_set, const WaterSource& sourc
   const grid::IndexBox samples = source.bounding_nodes(grid, level_set.band());
   if (samples.empty()) return samples;
   const Eigen::Vector3i last = level_set.mac_grid().cells() - Eigen::Vector3i::Ones();
-  // A node is a corner of the cells about it; a cell centre's φ is interpolated over the
-  // lattice cells to each side of it, which reach half into the next MAC cell.
-  const int beyond = level_set.layout() == LevelSet::Layout::Cells ? 1 : 0;
+  // A cell centre's φ is interpolated over the lattice cells to each side of it, which
+  // reach half into the next MAC cell.
   return {(samples.lo.array() - 1).max(0).matrix(),
-          (samples.hi.array() + beyond).min(last.array()).matrix()};
+          (samples.hi.array() + 1).min(last.array()).matrix()};
 }
 
 namespace {
@@ -185,21 +139,13 @@ bool emitter_cell(const grid::UniformGrid& grid, const WaterSource& source,
 
 bool emitter_has_water(const LevelSet& level_set, const WaterSource& source) {
   const grid::UniformGrid& grid = level_set.mac_grid();
-  const bool cells = level_set.layout() == LevelSet::Layout::Cells;
   const grid::IndexBox box = source.bounding_cells(grid);
   for (int k = box.lo.z(); k <= box.hi.z(); ++k)
     for (int j = box.lo.y(); j <= box.hi.y(); ++j)
       for (int i = box.lo.x(); i <= box.hi.x(); ++i) {
         const Eigen::Vector3i c(i, j, k);
         if (!emitter_cell(grid, source, c)) continue;
-        if (cells) {  // its own sample: wet as a node cell is, some φ below zero
-          if (level_set.phi()[grid.index(Location::Cell, c)] < 0.0) return true;
-          continue;
-        }
-        std::array<double, 8> corner;
-        for (int m = 0; m < 8; ++m)
-          corner[m] = level_set.phi()[grid.index(Location::Node, c + corner_step(m))];
-        if (LevelSet::cell_fraction(corner) > 0.0) return true;
+        if (level_set.phi()[grid.index(Location::Cell, c)] < 0.0) return true;
       }
   return false;
 }
@@ -224,33 +170,8 @@ double emitter_held_flow(const grid::UniformGrid& grid, const WaterSource& sourc
   return flow * grid.dx() * grid.dx();
 }
 
-double open_side_outflow(const LevelSet& level_set, const NodeFields& velocity,
-                         const std::array<bool, 6>& open, double dt) {
-  SHELLFLOW_ASSERT(level_set.layout() == LevelSet::Layout::Nodes);
-  const Eigen::Vector3i n = level_set.grid().cells();
-  double volume = 0.0;
-  for (int side = 0; side < 6; ++side) {
-    if (!open[side]) continue;
-    const int a = side / 2, b = (a + 1) % 3, c = (a + 2) % 3;
-    const bool max_side = side % 2 == 1;
-    // One term per row of faces along b, each summed in order: the same bits on any
-    // number of threads.
-    volume += ordered_sum(n[c], [&](std::int64_t k) {
-      double row = 0.0;
-      Eigen::Vector3i face;
-      face[a] = max_side ? n[a] : 0;
-      face[c] = static_cast<int>(k);
-      for (face[b] = 0; face[b] < n[b]; ++face[b])
-        row += swept_across_face(level_set, velocity, a, face, max_side ? 1.0 : -1.0, dt);
-      return row;
-    });
-  }
-  return volume;
-}
-
 double open_side_outflow(const LevelSet& level_set, const MacGrid& mac,
                          const std::array<bool, 6>& open, double dt) {
-  SHELLFLOW_ASSERT(level_set.layout() == LevelSet::Layout::Cells);
   const Eigen::Vector3i n = mac.grid().cells();
   double volume = 0.0;
   for (int side = 0; side < 6; ++side) {

@@ -127,7 +127,7 @@ double hanging_strip_stretch(const std::vector<double>& center_height, double re
 
 /// Work a scene does not need ("cost follows need"): max over steps of a counter a plugin
 /// reports (grid_fluid's band_nodes with no shells, coupling_faces with no two-way shell,
-/// level_set_nodes in smoke, smoke_nodes in water, ...). Known answer: 0.
+/// level_set_cells in smoke, smoke_nodes in water, ...). Known answer: 0.
 double idle_work(const std::vector<double>& counter);
 
 // --- The registry that bench specs name -------------------------------------------------

@@ -140,9 +140,9 @@ class GridFluid final : public sdk::FluidSolver {
   void advect_water_forces(double t, double dt);
   void add_smoke_forces(double t, double dt, const ShellGeometry& geom_n,
                         const geometry::ShellBand* band);
-  /// The prescribed field at time t on the nodes (exact samples) and, with `faces`, on
-  /// the faces.
-  void sample_prescribed(double t, bool faces);
+  /// The prescribed field at time t on the nodes and the faces (exact samples): the faces
+  /// carry φ, the nodes are what the writers show.
+  void sample_prescribed(double t);
 
   sdk::Context m_context;
   DomainBoundary m_boundary;

@@ -3,8 +3,8 @@
 // Guendelman et al. 2005), called by GridFluid in this order:
 //   advect()       φ^n → φ* along the velocity's semi-Lagrangian rays (§4.4.1)
 //   add_sources()  emitters union their shapes into φ and hold their faces
-//   refill()       nodes swept by the shells n → n+1 (and those whose stencil saw no
-//                  visible node) take valid values (§3)
+//   refill()       cells swept by the shells n → n+1 (and those whose stencil saw no
+//                  visible sample) take valid values (§3)
 //   reinitialize() particle paths against the shells moving n → n+1, the particles' correction of
 //                  φ, fast marching to a signed distance against the shells at n+1, the
 //                  correction again, radii, and every few frames a reseeding (§4.4.2)
@@ -38,7 +38,7 @@ namespace shellflow::grid_fluid {
 struct LiquidStats {
   FastMarchingStats reinitialization;
   ExtrapolationStats extrapolation;
-  std::int64_t invalid_nodes = 0;  ///< φ nodes refilled (§3, §4.4.1)
+  std::int64_t invalid_cells = 0;  ///< φ samples refilled (§3, §4.4.1)
   std::int64_t source_nodes = 0;
   ParticleStats particles;
   double t_level_set = 0.0;  ///< advection, sources and refill of φ
@@ -49,25 +49,23 @@ struct LiquidStats {
 class Liquid {
  public:
   /// The "water" block of the scene (schema()); `up` the pools' up direction, `fps` the
-  /// scene's frame rate (the particles' reseeding), `boundary` the domain's sides (its
-  /// walls for the cells' φ, LevelSet::cell_values), `gravity` what the spray falls under.
+  /// scene's frame rate (the particles' reseeding), `boundary` the domain's sides (walls,
+  /// open and inflow sides), `gravity` what the spray falls under.
   Liquid(const nlohmann::json& params, const grid::UniformGrid& grid, const Eigen::Vector3d& up,
          double fps, const DomainBoundary& boundary = DomainBoundary(),
          const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero());
   static sdk::Schema schema();
 
   const LevelSet& level_set() const { return m_level_set; }
-  /// φ on the MAC cell centres ("level_set": "cells") rather than its nodes.
-  bool cell_centred() const { return m_level_set.layout() == LevelSet::Layout::Cells; }
   LevelSet& level_set() { return m_level_set; }
   const LiquidStats& stats() const { return m_stats; }
   const ParticleLevelSet& particles() const { return m_particles; }
   /// The water fraction per cell ("volume_fraction"; not enabled() when off).
   const VolumeFraction& fraction() const { return m_fraction; }
   VolumeFraction& fraction() { return m_fraction; }
-  /// The velocities the particles move with, on φ's lattice: the node velocities `nodes`,
-  /// or on cells the centres' means of the faces of `mac` (computed now).
-  const NodeFields& particle_velocity(const NodeFields& nodes, const MacGrid& mac);
+  /// The velocities the particles move with, on φ's lattice: the centres' means of the
+  /// faces of `mac` (computed now).
+  const NodeFields& particle_velocity(const MacGrid& mac);
   ParticleLevelSet& particles() { return m_particles; }
   const std::vector<WaterSource>& sources() const { return m_sources; }
   /// The volume water_volume_change counts from [m^3]: the scene's water measured by
@@ -109,28 +107,24 @@ class Liquid {
   /// for the ring averaging and reinitialisation, and every node about an emitter that is
   /// on at t. Velocities elsewhere are extrapolated or zero (§4.4): not worth advecting.
   std::span<const std::uint8_t> velocity_nodes(double t, double dt, double max_speed);
-  /// φ along the velocity's rays, the particles along their second-order paths: the node
-  /// velocities `velocity` (φ on nodes), or the cell centres' mean of the faces of `mac`
-  /// (φ on cells: the faces' divergence-free field, whose wall faces hold the walls'
-  /// normal velocity). `t`: the time at the start of the step (the emitters on then, whose
-  /// flow the budget counts).
-  void advect(double t, const NodeFields& velocity, const MacGrid& mac, double dt,
-              const ShellGeometry& shells, const geometry::ShellBand* band);
+  /// φ along the velocity's rays, the particles along their second-order paths: the cell
+  /// centres' mean of the faces of `mac` (the faces' divergence-free field, whose wall faces
+  /// hold the walls' normal velocity). `t`: the time at the start of the step (the emitters
+  /// on then, whose flow the budget counts).
+  void advect(double t, const MacGrid& mac, double dt, const ShellGeometry& shells,
+              const geometry::ShellBand* band);
   void add_sources(double t, DomainBoundary& boundary);
-  /// `swept`: φ's samples the shells swept n → n+1 (SweptRefill::swept_nodes, or on cells
-  /// swept_cells); may be empty. `velocity`: the node velocities after the advection, swept
-  /// nodes refilled (on cells not read: the centres' velocities from advect()); `shells_n`,
-  /// `shells`: the shells at the start and the end of the step.
-  void refill(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
-              const ShellGeometry& shells_n, const ShellGeometry& shells);
+  /// `swept`: the cells the shells swept n → n+1 (SweptRefill::swept_cells); may be empty.
+  /// `shells_n`, `shells`: the shells at the start and the end of the step.
+  void refill(std::span<const std::int64_t> swept, double dt, const ShellGeometry& shells_n,
+              const ShellGeometry& shells);
   /// `shells_n`, `shells`: the shells at the start and the end of the step; `t_end`: the
   /// time at the end of the step.
   void reinitialize(const ShellGeometry& shells_n, const ShellGeometry& shells,
                     const geometry::ShellBand* band, double t_end);
   /// The projection's view of the liquid (valid until the next advect()): φ at the cell
-  /// centres, the mean of the corners each centre sees (`band`: the cells where rays are
-  /// cast; may be null without shells).
-  const FreeSurface& surface(const ShellGeometry& shells, const geometry::ShellBand* band);
+  /// centres.
+  const FreeSurface& surface();
   /// The view the last surface() gave (its cell_phi empty before the first).
   const FreeSurface& last_surface() const { return m_surface; }
   /// The water's volume [m^3] (LevelSet::volume), where `shells` cut a cell of `band`
@@ -150,9 +144,9 @@ class Liquid {
   /// corners it sees; `own`, the cell's corners, if none sees any.
   double sampled_cell_fraction(const Eigen::Vector3i& cell, const std::array<double, 8>& own,
                                const ShellGeometry& shells) const;
-  /// refill(): the nodes the shells swept take φ^n where their water came from; those that
-  /// cannot are added to m_invalid.
-  void carry_swept_nodes(std::span<const std::int64_t> swept, const NodeFields& velocity, double dt,
+  /// refill(): the cells the shells swept take φ^n where their water came from, moving with
+  /// the centres' velocities advect() traced with; those that cannot are added to m_invalid.
+  void carry_swept_cells(std::span<const std::int64_t> swept, double dt,
                          const ShellGeometry& shells_n, const ShellGeometry& shells);
 
   /// The cells a face the shells close bounds (their two sides share one F), in
@@ -168,7 +162,7 @@ class Liquid {
   void centre_velocities(const MacGrid& mac);
 
   LevelSet m_level_set;
-  NodeFields m_centre_velocity;  ///< on cells: what φ's rays follow
+  NodeFields m_centre_velocity;  ///< what φ's rays follow
   VolumeFraction m_fraction;
   std::vector<grid::IndexBox> m_held_sources;  ///< cells of the emitters on this step
   std::vector<double> m_scratch;  ///< φ* being advected; after advect(), φ^n until refill(); then
@@ -187,10 +181,9 @@ class Liquid {
   double m_extrapolation_width = 0.0;      ///< [m]
   std::vector<std::int64_t> m_invalid;
   std::vector<std::uint8_t> m_valid;
-  std::vector<double> m_cell_phi;
   std::array<bool, 6> m_walls{};  ///< sides of the domain that are walls
   std::array<bool, 6> m_open{};   ///< sides of the domain that are open (outflow)
-  BoundaryPhi m_boundary_phi;     ///< on cells: φ beyond the open and inflow sides, advect()
+  BoundaryPhi m_boundary_phi;     ///< φ beyond the open and inflow sides, advect()
   VolumeBudget m_budget;
   std::vector<std::uint8_t> m_emitter_filling;  ///< per emitter, this step: apply() counts
   std::vector<double> m_held_flow;  ///< per emitter, emitter_held_flow() once known (else NaN)

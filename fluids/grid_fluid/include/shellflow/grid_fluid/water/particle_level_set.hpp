@@ -90,13 +90,12 @@ struct ParticleStats {
 
 class ParticleLevelSet {
  public:
-  /// The "particles" block of the water (schema()); `grid` the lattice of φ's samples
-  /// (LevelSet::grid()), whose node velocities the particles move with; `fps` the scene's
-  /// frame rate; `gravity` [m/s^2] what the spray falls under; `domain` the MAC grid, whose
-  /// cells are seeded and whose box holds the particles (null: `grid`, φ on nodes).
-  ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& grid, double fps,
-                   const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero(),
-                   const grid::UniformGrid* domain = nullptr);
+  /// The "particles" block of the water (schema()); `domain` the MAC grid, whose cells are
+  /// seeded and whose box holds the particles (they move with the velocities at its cell
+  /// centres, φ's lattice); `fps` the scene's frame rate; `gravity` [m/s^2] what the spray
+  /// falls under.
+  ParticleLevelSet(const nlohmann::json& params, const grid::UniformGrid& domain, double fps,
+                   const Eigen::Vector3d& gravity = Eigen::Vector3d::Zero());
   static sdk::Schema schema();
   /// The domain's sides that are walls (−x, +x, −y, +y, −z, +z): water particles keep their
   /// collision distance off them as off a shell.

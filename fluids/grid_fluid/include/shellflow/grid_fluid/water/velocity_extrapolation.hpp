@@ -3,18 +3,16 @@
 // liquid cell (and the Neumann faces of shells and walls) hold velocities; §4.4
 // (Guendelman et al. 2005) extends them across the surface into a band of a few cells
 // so that the next step's advection of velocity and φ has values to interpolate. Per face
-// family, the unknown faces with φ below the band (φ at a face: the mean of its four
-// nodes, or of its two cells for cell-centred φ; a signed distance after reinitialisation)
-// are visited in increasing φ, and each
-// solves the upwind discretisation of ∇φ·∇u = 0 from its already known neighbours of
-// lower φ:  u_f = Σ_a (φ_f − φ_a) u_a / Σ_a (φ_f − φ_a), one neighbour per axis (the
-// lower of the two), neighbours that are not visible (a ray between the face centres
-// meets a shell) ruled out. Linear (the default): within a cell of the surface the
-// normal slope of the velocity carries on, ∇φ·∇u = d with d the same discretisation's
-// value at the liquid faces, extrapolated constant (Aslam 2004), so that a surface between
-// two planes of faces moves with its own velocity. A face with no known visible neighbour is
-// invalid and is refilled afterwards (§3: Gauss–Jacobi over valid visible neighbours, the object's
-// velocity standing in for the hidden ones). Faces beyond the band are set to 0 and never
+// family, the unknown faces with φ below the band (φ at a face: the mean of its two cells;
+// a signed distance after reinitialisation) are visited in increasing φ, and each solves the upwind
+// discretisation of ∇φ·∇u = 0 from its already known neighbours of lower φ:  u_f = Σ_a (φ_f − φ_a)
+// u_a / Σ_a (φ_f − φ_a), one neighbour per axis (the lower of the two), neighbours that are not
+// visible (a ray between the face centres meets a shell) ruled out. Linear (the default): within a
+// cell of the surface the normal slope of the velocity carries on, ∇φ·∇u = d with d the same
+// discretisation's value at the liquid faces, extrapolated constant (Aslam 2004), so that a surface
+// between two planes of faces moves with its own velocity. A face with no known visible neighbour
+// is invalid and is refilled afterwards (§3: Gauss–Jacobi over valid visible neighbours, the
+// object's velocity standing in for the hidden ones). Faces beyond the band are set to 0 and never
 // read (the nodes that would read them lie beyond the band too).
 
 #include <array>

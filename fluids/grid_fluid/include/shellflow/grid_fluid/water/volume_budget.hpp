@@ -10,20 +10,16 @@
 //    level set makes or loses about and downstream of it shows as drift. One without a
 //    velocity: whatever apply() sets (its water leaves by the fluid's own velocity and
 //    apply() tops it up).
-//  - outflow: what the velocity carries out through the domain's open sides. φ on nodes:
-//    in through them, negative. φ on cells: out only, as nothing enters there (BoundaryPhi),
-//    so it never decreases.
+//  - outflow: what the velocity carries out through the domain's open sides: out only, as
+//    nothing enters there (BoundaryPhi), so it never decreases.
 // The open sides' flow over each step is swept: across a face, what lies upstream within
 // u_n dt of it, the face's wet area (φ's linear interpolant below zero on its two
-// triangles) integrated over that depth. φ on nodes: u_n the mean normal velocity of the
-// face's four nodes (those φ moves with), the section's corners the nodes, the triangles
-// LevelSet::volume's tetrahedra cut it into. φ on cells: u_n the MAC face's (what the
-// centres' velocities average), the corners the mean of the four rows of centres about
-// them, φ linear along the normal from the face through the first two centres.
+// triangles) integrated over that depth; u_n the MAC face's (what the centres' velocities
+// average), the corners the mean of the four rows of centres about them, φ linear along
+// the normal from the face through the first two centres.
 
 #include <array>
 
-#include "shellflow/grid_fluid/mac/node_fields.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
 #include "shellflow/grid_fluid/water/water_source.hpp"
 
@@ -43,7 +39,7 @@ struct VolumeBudget {
 /// the band of cells of the step).
 struct PhaseDrift {
   double advection = 0.0;         ///< φ's advection and the emitters, less the budget's flows
-  double shells = 0.0;            ///< the shells' move n → n+1 and the refill of swept nodes
+  double shells = 0.0;            ///< the shells' move n → n+1 and the refill of swept cells
   double reinitialization = 0.0;  ///< the particles' corrections and fast marching
   double between_steps = 0.0;     ///< the measure's own change from one step to the next
 };
@@ -58,8 +54,7 @@ double face_water_fraction(const std::array<double, 4>& corner);
 /// to the grid.
 grid::IndexBox emitter_reach(const LevelSet& level_set, const WaterSource& source);
 
-/// Does any of the emitter's own cells (their centre inside it) hold water (on cells: its
-/// φ below zero)?
+/// Does any of the emitter's own cells (their centre inside it) hold water (φ below zero)?
 bool emitter_has_water(const LevelSet& level_set, const WaterSource& source);
 
 /// The flow [m^3/s] the emitter's held faces let out while it is on (t: a time it is on;
@@ -68,14 +63,9 @@ bool emitter_has_water(const LevelSet& level_set, const WaterSource& source);
 /// exactly: the cells' staircase, not π r² for a cylinder. `grid`: the MAC grid.
 double emitter_held_flow(const grid::UniformGrid& grid, const WaterSource& source, double t);
 
-/// The net water [m^3] that `velocity` carries out through the open sides of the domain
-/// (`open[2 * axis + max_side]`) in a step of dt, from φ at its start (inflow negative).
-/// φ on nodes.
-double open_side_outflow(const LevelSet& level_set, const NodeFields& velocity,
-                         const std::array<bool, 6>& open, double dt);
-
-/// The water [m^3] that the faces of `mac` carry out through the open sides in a step of
-/// dt, from φ at its start; faces whose velocity points in count nothing. φ on cells.
+/// The water [m^3] that the faces of `mac` carry out through the open sides of the domain
+/// (`open[2 * axis + max_side]`) in a step of dt, from φ at its start; faces whose velocity
+/// points in count nothing.
 double open_side_outflow(const LevelSet& level_set, const MacGrid& mac,
                          const std::array<bool, 6>& open, double dt);
 
