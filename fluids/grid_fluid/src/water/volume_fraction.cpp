@@ -240,22 +240,71 @@ void VolumeFraction::restore(sdk::StateReader& in, const MacGrid& mac) {
   }
 }
 
+void VolumeFraction::gather_line_faces(const MacGrid& mac) {
+  for (int a = 0; a < 3; ++a) {
+    const Location loc = face_location(a);
+    const auto& u = mac.face_velocity(a);
+    // Face → the value F moves with: the kept projection's, then a cut face's share of it.
+    std::vector<std::pair<std::int64_t, double>> faces;
+    if (m_faces_kept) {
+      faces = m_kept[a];  // in face order
+      for (const CutFace& cut : m_cut[a]) {
+        const auto at = std::lower_bound(
+            faces.begin(), faces.end(), cut.face,
+            [](const auto& entry, std::int64_t face) { return entry.first < face; });
+        const bool kept = at != faces.end() && at->first == cut.face;
+        const double base = kept ? at->second : u[cut.face];
+        const double shared = cut.fraction * base + (1.0 - cut.fraction) * cut.shell_velocity;
+        if (kept)
+          at->second = shared;
+        else
+          faces.insert(at, {cut.face, shared});
+      }
+    }
+    const Eigen::Vector3i n = m_mac.cells();
+    const int b = (a + 1) % 3, e = (a + 2) % 3;
+    const std::int64_t lines = std::int64_t(n[b]) * n[e];
+    auto& start = m_line_start[a];
+    auto& entries = m_line_faces[a];
+    start.assign(lines + 1, 0);
+    entries.resize(faces.size());
+    const auto line_of = [&](const Eigen::Vector3i& f) { return f[b] + std::int64_t(n[b]) * f[e]; };
+    for (const auto& [face, value] : faces) ++start[line_of(m_mac.coordinates(loc, face)) + 1];
+    for (std::int64_t l = 0; l < lines; ++l) start[l + 1] += start[l];
+    std::vector<std::int64_t> next(start.begin(), start.end() - 1);
+    for (const auto& [face, value] : faces) {
+      const Eigen::Vector3i f = m_mac.coordinates(loc, face);
+      entries[next[line_of(f)]++] = {f[a], value};
+    }
+  }
+}
+
+double VolumeFraction::fastest_face(const MacGrid& mac) const {
+  // Over every face of `mac` and the faces F moves with instead: no less than the fastest
+  // face F reads (the kept ones may outrun the extrapolated MAC's).
+  double fastest = 0.0;
+  for (int a = 0; a < 3; ++a) {
+    const auto& u = mac.face_velocity(a);
+    const std::int64_t count = static_cast<std::int64_t>(u.size());
+#pragma omp parallel for schedule(static) reduction(max : fastest)
+    for (std::int64_t f = 0; f < count; ++f) fastest = std::max(fastest, std::abs(u[f]));
+    for (const LineFace& face : m_line_faces[a]) fastest = std::max(fastest, std::abs(face.u));
+  }
+  return fastest;
+}
+
 void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, double dt,
                             const std::vector<grid::IndexBox>& on,
                             std::span<const std::uint8_t> cut) {
   const std::vector<grid::IndexBox>& sources = m_faces_kept ? m_faces_sources : on;
   const std::int64_t step = m_steps++;
   m_stats = VolumeFractionStats{};
+  gather_line_faces(mac);
   // Weymouth and Yue's sweeps keep F in [0, 1] up to a Courant number of ½ per sweep: the
   // step is split to stay within it (the faces next to liquid cells carry the projection's
   // values, which may outrun the step's CFL speed where θ is small), up to kMostParts.
-  double fastest = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    faces_along(a, mac, m_axis_faces);
-    for (const double w : m_axis_faces) fastest = std::max(fastest, std::abs(w));
-  }
-  const int parts = std::clamp(static_cast<int>(std::ceil(fastest * dt / m_mac.dx() / 0.5)), 1,
-                               kMostParts);
+  const int parts = std::clamp(
+      static_cast<int>(std::ceil(fastest_face(mac) * dt / m_mac.dx() / 0.5)), 1, kMostParts);
   // The dilation term's cells: the liquid cells of φ^n, whose faces the projection made
   // divergence free, so that the terms add up to nothing (Weymouth and Yue take F > ½,
   // which φ^n's liquid cells are once correct() has moved φ to F) but in the emitters'
@@ -269,22 +318,51 @@ void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, doubl
   if (!cut.empty())
     for (std::int64_t c = 0; c < count; ++c)
       if (cut[c] != 0 && phi[c] <= 0.0) m_cut_weights.push_back({c, m_fraction[c]});
-  m_plane_of.assign(count, -1);
+  // The cells the sweeps may change: those with water or φ <= 0 (their bounding box, which
+  // each pass grows by a cell along its axis), and the cells F cuts now.
+  const Eigen::Vector3i n = m_mac.cells();
+  m_wet = {n, Eigen::Vector3i::Constant(-1)};
+  m_plane_of.resize(count, -1);  // −1 everywhere between steps
   m_planes.clear();
+  std::vector<std::vector<std::int64_t>> mixed_per_slab(n.z());
+  std::vector<grid::IndexBox> wet_per_slab(n.z(), m_wet);
+#pragma omp parallel for schedule(static)
+  for (int k = 0; k < n.z(); ++k)
+    for (int j = 0; j < n.y(); ++j)
+      for (int i = 0; i < n.x(); ++i) {
+        const std::int64_t c = m_mac.index(Location::Cell, i, j, k);
+        if (!(m_fraction[c] > kFullOrEmpty || phi[c] <= 0.0)) continue;
+        grid::IndexBox& box = wet_per_slab[k];
+        box.lo = box.lo.cwiseMin(Eigen::Vector3i(i, j, k));
+        box.hi = box.hi.cwiseMax(Eigen::Vector3i(i, j, k));
+        if (m_fraction[c] < 1.0 - kFullOrEmpty && m_fraction[c] > kFullOrEmpty)
+          mixed_per_slab[k].push_back(c);
+      }
+  for (int k = 0; k < n.z(); ++k) {
+    m_wet.lo = m_wet.lo.cwiseMin(wet_per_slab[k].lo);
+    m_wet.hi = m_wet.hi.cwiseMax(wet_per_slab[k].hi);
+    for (const std::int64_t c : mixed_per_slab[k]) add_plane(c);
+  }
   double clipped = 0.0, outflow = 0.0, dilated = 0.0, divergence = 0.0;
-  for (int part = 0; part < parts; ++part) {
+  for (int part = 0; part < parts && !m_wet.empty(); ++part) {
     sweeps(mac, level_set, cut, sources, dt / parts, step * 3 + part);
     clipped += m_stats.clipped;
     outflow += m_stats.outflow;
     dilated += m_stats.dilated;
     divergence += m_stats.divergence;
   }
+  for (const Plane& plane : m_planes) m_plane_of[plane.cell] = -1;
   m_stats.clipped = clipped;
   m_stats.outflow = outflow;
   m_stats.dilated = dilated;
   m_stats.divergence = divergence;
   m_stats.parts = parts;
   m_clipped_total += clipped;
+}
+
+void VolumeFraction::add_plane(std::int64_t cell) {
+  m_plane_of[cell] = static_cast<std::int32_t>(m_planes.size());
+  m_planes.push_back({cell, Eigen::Vector3d::Zero(), 0.0});
 }
 
 void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
@@ -300,111 +378,130 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
         ->second;
   };
   const Eigen::Vector3i n = m_mac.cells();
-  const std::int64_t count = m_mac.size(Location::Cell);
   const double dx = m_mac.dx();
   const auto mixed = [](double f) { return f > kFullOrEmpty && f < 1.0 - kFullOrEmpty; };
   double clipped = 0.0, outflow = 0.0, dilated = 0.0, divergence = 0.0;
   for (int pass = 0; pass < 3; ++pass) {
     const int a = order % 2 == 0 ? pass : 2 - pass;
-    faces_along(a, mac, m_axis_faces);
-    const auto& w = m_axis_faces;
+    const auto& u_mac = mac.face_velocity(a);
     const Location loc = face_location(a);
-    // Each cell F cuts now: its plane, the normal from φ^n (found once a cell is first cut).
-    const std::int64_t known = static_cast<std::int64_t>(m_planes.size());
-    for (std::int64_t c = 0; c < count; ++c)
-      if (m_plane_of[c] < 0 && mixed(m_fraction[c])) {
-        m_plane_of[c] = static_cast<std::int32_t>(m_planes.size());
-        m_planes.push_back({c, Eigen::Vector3d::Zero(), 0.0});
-      }
+    // Each cell F cuts: its plane, the normal from φ^n (found once a cell is first cut).
     const std::int64_t planes = static_cast<std::int64_t>(m_planes.size());
 #pragma omp parallel for schedule(static)
     for (std::int64_t p = 0; p < planes; ++p) {
       Plane& plane = m_planes[p];
-      if (p >= known)
+      if (plane.normal.isZero())
         plane.normal = normal_at(level_set, m_mac.coordinates(Location::Cell, plane.cell));
       if (mixed(m_fraction[plane.cell]))
         plane.height = plane_height(plane.normal, m_fraction[plane.cell]);
     }
     // A pass moves water along the lines of cells of axis a only, each on its own: per line,
     // the water each of its faces carries (+ along the axis), then F − (out − in) +
-    // c (u⁺ − u⁻) dt/Δx (Weymouth and Yue 2010, eq. 9). A line with no water and no liquid
-    // cell carries nothing and has no dilation: it is left as it is. Per line, summed in
-    // order afterwards: the same bits on any thread count.
+    // c (u⁺ − u⁻) dt/Δx (Weymouth and Yue 2010, eq. 9). Water moves at most a cell, so only
+    // the cells from one before a line's first wet cell to one after its last change; a line
+    // outside the wet box, or with no wet cell, is left as it is. Per line, summed in order
+    // afterwards: the same bits on any thread count.
     const int b = (a + 1) % 3, e = (a + 2) % 3;
     const std::int64_t lines = std::int64_t(n[b]) * n[e];
     m_line_sums.assign(4 * lines, 0.0);  // clipped, dilated, divergence, outflow per line
+    std::vector<int> first(lines, n[a]), last(lines, -1);  // each line's span changed
+    std::vector<std::vector<std::int64_t>> cut_now(lines);
+    const auto& line_start = m_line_start[a];
+    const auto& line_faces = m_line_faces[a];
 #pragma omp parallel
     {
-      std::vector<double> carried(n[a] + 1);
-#pragma omp for schedule(static)
-      for (std::int64_t line = 0; line < lines; ++line) {
-        Eigen::Vector3i ijk;
-        ijk[b] = static_cast<int>(line % n[b]);
-        ijk[e] = static_cast<int>(line / n[b]);
-        const auto cell_at = [&](int i) {
-          ijk[a] = i;
-          return m_mac.index(Location::Cell, ijk);
-        };
-        bool wet = false;
-        for (int i = 0; i < n[a] && !wet; ++i) {
-          const std::int64_t c = cell_at(i);
-          wet = m_fraction[c] > kFullOrEmpty || phi[c] <= 0.0;
-        }
-        if (!wet) continue;
-        for (int i = 0; i <= n[a]; ++i) {
-          carried[i] = 0.0;
-          ijk[a] = i;
-          const double u = w[m_mac.index(loc, ijk)];
-          // A side's face carries water out where it is open and its flow leaves; none
-          // comes in.
-          if (i == 0 && !(m_open[2 * a] && u < 0.0)) continue;
-          if (i == n[a] && !(m_open[2 * a + 1] && u > 0.0)) continue;
-          const double s = std::min(std::abs(u) * dt / dx, 1.0);
-          if (s == 0.0) continue;
-          const std::int64_t d = cell_at(u > 0.0 ? i - 1 : i);
-          const double fraction = m_fraction[d];
-          double water;
-          if (fraction <= kFullOrEmpty) {
-            water = 0.0;
-          } else if (!mixed(fraction)) {
-            water = s * fraction;
-          } else {
-            // The donor's slab next to the face, below its plane.
-            Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5),
-                            hi = Eigen::Vector3d::Constant(0.5);
-            if (u > 0.0)
-              lo[a] = 0.5 - s;
-            else
-              hi[a] = -0.5 + s;
-            const Plane& plane = m_planes[m_plane_of[d]];
-            water = s * box_fraction_below(plane.normal, plane.height, lo, hi);
-          }
-          carried[i] = u > 0.0 ? water : -water;
-        }
-        double* sums = &m_line_sums[4 * line];
-        sums[3] = (m_open[2 * a] ? -carried[0] : 0.0) + (m_open[2 * a + 1] ? carried[n[a]] : 0.0);
-        for (int i = 0; i < n[a]; ++i) {
-          const std::int64_t c = cell_at(i);
-          double value = m_fraction[c] + carried[i] - carried[i + 1];
-          if (const double weight = dilating(c); weight != 0.0) {
+      std::vector<double> carried(n[a] + 1), u(n[a] + 1);
+#pragma omp for collapse(2) schedule(static)
+      for (int le = m_wet.lo[e]; le <= m_wet.hi[e]; ++le)
+        for (int lb = m_wet.lo[b]; lb <= m_wet.hi[b]; ++lb) {
+          const std::int64_t line = lb + std::int64_t(n[b]) * le;
+          Eigen::Vector3i ijk;
+          ijk[b] = lb;
+          ijk[e] = le;
+          const auto cell_at = [&](int i) {
             ijk[a] = i;
-            const double u_lo = w[m_mac.index(loc, ijk)];
-            ijk[a] = i + 1;
-            const double dilation = weight * (w[m_mac.index(loc, ijk)] - u_lo) * dt / dx;
-            value += dilation;
+            return m_mac.index(Location::Cell, ijk);
+          };
+          const auto wet = [&](int i) {
+            const std::int64_t c = cell_at(i);
+            return m_fraction[c] > kFullOrEmpty || phi[c] <= 0.0;
+          };
+          int lo = m_wet.lo[a], hi = m_wet.hi[a];
+          while (lo <= hi && !wet(lo)) ++lo;
+          if (lo > hi) continue;
+          while (!wet(hi)) --hi;
+          lo = std::max(lo - 1, 0);
+          hi = std::min(hi + 1, n[a] - 1);
+          first[line] = lo;
+          last[line] = hi;
+          // The faces lo .. hi + 1: the MAC's, those F moves with instead over them.
+          for (int i = lo; i <= hi + 1; ++i) {
             ijk[a] = i;
-            const bool emitting = std::any_of(sources.begin(), sources.end(),
-                                              [&](const grid::IndexBox& box) { return box.contains(ijk); });
-            sums[emitting ? 1 : 2] += dilation;
+            u[i] = u_mac[m_mac.index(loc, ijk)];
           }
-          // Where the air's extrapolated faces converge a cell may take in more than it
-          // holds: the excess stays in it (carried on with the flux of a full cell) rather
-          // than being lost. Below zero there is nothing to carry.
-          const double kept = std::max(value, 0.0);
-          sums[0] += kept - value;
-          m_fraction[c] = kept;
+          for (std::int64_t k = line_start[line]; k < line_start[line + 1]; ++k)
+            if (line_faces[k].along >= lo && line_faces[k].along <= hi + 1)
+              u[line_faces[k].along] = line_faces[k].u;
+          for (int i = lo; i <= hi + 1; ++i) {
+            carried[i] = 0.0;
+            // A side's face carries water out where it is open and its flow leaves; none
+            // comes in.
+            if (i == 0 && !(m_open[2 * a] && u[i] < 0.0)) continue;
+            if (i == n[a] && !(m_open[2 * a + 1] && u[i] > 0.0)) continue;
+            const double s = std::min(std::abs(u[i]) * dt / dx, 1.0);
+            if (s == 0.0) continue;
+            const std::int64_t d = cell_at(u[i] > 0.0 ? i - 1 : i);
+            const double fraction = m_fraction[d];
+            double water;
+            if (fraction <= kFullOrEmpty) {
+              water = 0.0;
+            } else if (!mixed(fraction)) {
+              water = s * fraction;
+            } else {
+              // The donor's slab next to the face, below its plane.
+              Eigen::Vector3d box_lo = Eigen::Vector3d::Constant(-0.5),
+                              box_hi = Eigen::Vector3d::Constant(0.5);
+              if (u[i] > 0.0)
+                box_lo[a] = 0.5 - s;
+              else
+                box_hi[a] = -0.5 + s;
+              const Plane& plane = m_planes[m_plane_of[d]];
+              water = s * box_fraction_below(plane.normal, plane.height, box_lo, box_hi);
+            }
+            carried[i] = u[i] > 0.0 ? water : -water;
+          }
+          double* sums = &m_line_sums[4 * line];
+          sums[3] = (m_open[2 * a] && lo == 0 ? -carried[0] : 0.0) +
+                    (m_open[2 * a + 1] && hi == n[a] - 1 ? carried[n[a]] : 0.0);
+          for (int i = lo; i <= hi; ++i) {
+            const std::int64_t c = cell_at(i);
+            double value = m_fraction[c] + carried[i] - carried[i + 1];
+            if (const double weight = dilating(c); weight != 0.0) {
+              const double dilation = weight * (u[i + 1] - u[i]) * dt / dx;
+              value += dilation;
+              ijk[a] = i;
+              const bool emitting =
+                  std::any_of(sources.begin(), sources.end(),
+                              [&](const grid::IndexBox& box) { return box.contains(ijk); });
+              sums[emitting ? 1 : 2] += dilation;
+            }
+            // Where the air's extrapolated faces converge a cell may take in more than it
+            // holds: the excess stays in it (carried on with the flux of a full cell) rather
+            // than being lost. Below zero there is nothing to carry.
+            const double kept = std::max(value, 0.0);
+            sums[0] += kept - value;
+            m_fraction[c] = kept;
+            if (m_plane_of[c] < 0 && mixed(kept)) cut_now[line].push_back(c);
+          }
         }
-      }
+    }
+    // The cells first cut in this pass get planes at the next; the wet box grows to the
+    // cells it changed.
+    for (std::int64_t line = 0; line < lines; ++line) {
+      for (const std::int64_t c : cut_now[line]) add_plane(c);
+      if (last[line] < 0) continue;
+      m_wet.lo[a] = std::min(m_wet.lo[a], first[line]);
+      m_wet.hi[a] = std::max(m_wet.hi[a], last[line]);
     }
     clipped += ordered_sum(lines, [&](std::int64_t l) { return m_line_sums[4 * l]; });
     dilated += ordered_sum(lines, [&](std::int64_t l) { return m_line_sums[4 * l + 1]; });

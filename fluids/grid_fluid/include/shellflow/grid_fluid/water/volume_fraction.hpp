@@ -110,8 +110,15 @@ class VolumeFraction {
 
  private:
   /// The faces along `axis` that F moves with: `mac`'s, with the kept ones and the cut
-  /// faces' shares over them.
+  /// faces' shares over them (a checkpoint's whole columns).
   void faces_along(int axis, const MacGrid& mac, std::vector<double>& out) const;
+  /// The faces F moves with that differ from `mac`'s, per axis by line of cells
+  /// (m_line_faces, m_line_start): what the sweeps read over `mac`'s own.
+  void gather_line_faces(const MacGrid& mac);
+  /// The largest |u| of `mac`'s faces and those gather_line_faces() found.
+  double fastest_face(const MacGrid& mac) const;
+  /// Gives `cell` (cut by F now) a plane, its normal found at the next pass.
+  void add_plane(std::int64_t cell);
   /// The three sweeps over dt (its Courant number at most ½), in the order `order` picks;
   /// sets m_stats' clipped, outflow, dilated and divergence for them. `sources`: the cells of
   /// the emitters whose held faces the faces carry (their dilation is added water).
@@ -133,7 +140,11 @@ class VolumeFraction {
     double height;
   };
   std::vector<Plane> m_planes;           ///< the cells cut so far this step, in the order first cut
-  std::vector<std::int32_t> m_plane_of;  ///< each cell's entry in m_planes (−1: none yet)
+  std::vector<std::int32_t>
+      m_plane_of;  ///< each cell's entry in m_planes (−1: none; all between steps)
+  /// This step's cells with water or φ^n <= 0, bounded: the sweeps change no cell beyond a
+  /// cell outside it.
+  grid::IndexBox m_wet;
   std::vector<double> m_line_sums;       ///< per line of a pass: clipped, dilated, divergence, out
   double m_clipped_total = 0.0;
   struct CutFace {
@@ -144,7 +155,13 @@ class VolumeFraction {
   std::array<std::vector<std::pair<std::int64_t, double>>, 3> m_kept;  ///< (face, projected)
   std::array<std::vector<CutFace>, 3> m_cut;    ///< the shells' cut faces since the projection
   std::vector<grid::IndexBox> m_faces_sources;  ///< the emitters whose held faces those are
-  std::vector<double> m_axis_faces;             ///< one axis's faces F moves with, this pass
+  /// A face F moves with instead of the MAC's: its place along its line, its velocity.
+  struct LineFace {
+    int along;
+    double u;
+  };
+  std::array<std::vector<LineFace>, 3> m_line_faces;      ///< per axis, grouped by line
+  std::array<std::vector<std::int64_t>, 3> m_line_start;  ///< per axis, each line's first (+ end)
   std::int64_t m_steps = 0;
   std::array<bool, 6> m_open{};
   VolumeFractionStats m_stats;
