@@ -263,7 +263,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   if (m_prescribed) {
     // The field at the middle of the step carries φ and the particles; nothing else moves.
     sample_prescribed(t + 0.5 * dt);
-    m_liquid->advect(t, m_mac, dt, geom_n, band);
+    m_liquid->advect(t, m_mac, dt, m_mac.max_face_speed(), geom_n, band);
   } else {
     // 1. §4.2 faces → nodes (already done at the end of the last projection, same shells).
     if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band);
@@ -272,7 +272,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
     m_advector.advect(
         m_nodes, m_next, dt, geom_n, band,
         m_liquid ? m_liquid->velocity_nodes(t, dt, speed) : std::span<const std::uint8_t>());
-    if (m_liquid) m_liquid->advect(t, m_mac, dt, geom_n, band);
+    if (m_liquid) m_liquid->advect(t, m_mac, dt, speed, geom_n, band);
     std::swap(m_nodes, m_next);  // m_next keeps the fields at n: u^n for step 5
 
     // 3. Water: gravity on the nodes (§4.1), emitters; smoke: sources and body forces.

@@ -231,7 +231,7 @@ struct WaterAgainstAPlate {
   /// One step of the water's phases at the still plate with the face velocities `faces`,
   /// ending at t_end.
   void step(const MacGrid& faces, double dt, double t_end) {
-    liquid->advect(0.0, faces, dt, plate, &band);
+    liquid->advect(0.0, faces, dt, faces.max_face_speed(), plate, &band);
     liquid->refill({}, dt, plate, plate);
     liquid->reinitialize(plate, plate, &band, t_end);
   }
@@ -309,7 +309,7 @@ TEST(ParticleLevelSet, WaterParticlesNearAShellDoNotCloseOnIt) {
   std::map<double, double> before;  // collision distance -> distance to the plate
   for (std::int64_t i = 0; i < p.size(); ++i)
     if (p.sign(i) < 0) before[p.collision_distance(i)] = w.plate_x - p.position(i).x();
-  w.liquid->advect(0.0, faces, 0.5 * w.grid.dx(), w.plate, &w.band);
+  w.liquid->advect(0.0, faces, 0.5 * w.grid.dx(), faces.max_face_speed(), w.plate, &w.band);
   int near = 0;
   double worst = std::numeric_limits<double>::infinity();
   for (std::int64_t i = 0; i < p.size(); ++i) {
@@ -356,7 +356,7 @@ TEST(ParticleLevelSet, AShellSweepingOverStillParticlesPushesWaterAndDeletesAir)
     geometry::ShellBand band(grid);
     band.add_swept(geometry::TriangleMesh(s0.front()), geometry::TriangleMesh(s1.front()),
                    3.0 * dx);
-    liquid->advect(0.0, still, 0.01, g0, &band);
+    liquid->advect(0.0, still, 0.01, 0.0, g0, &band);
     liquid->refill({}, 0.01, g0, g1);
     liquid->reinitialize(g0, g1, &band, 0.01 * (s + 1));  // 0.1 s: before the first reseed
   }

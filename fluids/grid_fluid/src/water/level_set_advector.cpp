@@ -22,10 +22,10 @@ constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velocity, double dt,
                               const ShellGeometry& shells, const geometry::ShellBand* band,
                               std::span<double> out, std::vector<std::int64_t>& invalid,
-                              const BoundaryPhi* ghost) {
+                              const BoundaryPhi* ghost, double reach) {
   const std::int64_t count = m_grid.size(Location::Node);
   if (!m_maccormack) {
-    trace(in, velocity, dt, shells, band, out, nullptr, invalid, ghost);
+    trace(in, velocity, dt, shells, band, out, nullptr, invalid, ghost, reach);
     return;
   }
   // Selle et al. 2008: forward, then back from the result; half the round trip's error
@@ -35,9 +35,10 @@ void LevelSetAdvector::advect(std::span<const double> in, const NodeFields& velo
   m_back.resize(count);
   const std::size_t first_invalid = invalid.size();
   m_clamped.clear();
-  trace(in, velocity, dt, shells, band, out, m_range.data(), invalid, ghost, &m_clamped);
+  trace(in, velocity, dt, shells, band, out, m_range.data(), invalid, ghost, reach, &m_clamped);
   m_back_invalid.clear();
-  trace(out, velocity, -dt, shells, band, m_back, nullptr, m_back_invalid, ghost, &m_clamped);
+  trace(out, velocity, -dt, shells, band, m_back, nullptr, m_back_invalid, ghost, reach,
+        &m_clamped);
   // No correction where either trace saw no visible node, or left the lattice: a ray
   // clamped at a wall makes no round trip, and half its change "corrected" lost the water
   // piling against the wall (on cells, whose first centres move with the water's normal
@@ -57,7 +58,7 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
                              const ShellGeometry& shells, const geometry::ShellBand* band,
                              std::span<double> out, double* range,
                              std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost,
-                             std::vector<std::int64_t>* clamped) const {
+                             double reach, std::vector<std::int64_t>* clamped) const {
   const std::span<const std::uint8_t> in_band =
       band && !shells.empty() ? LevelSet::band_flags(*band, m_grid) : std::span<const std::uint8_t>();
   const Eigen::Vector3d lower = m_grid.origin();
@@ -66,6 +67,15 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
   const double midpoint_reach = 3.0 * m_grid.dx();
   const Eigen::Vector3i nodes = m_grid.counts(Location::Node);
   const std::int64_t sy = nodes.x(), sz = std::int64_t(nodes.x()) * nodes.y();
+  // With a ghost, the nodes within `reach` of a side (in nodes) are traced whatever φ.
+  const int side_nodes =
+      ghost == nullptr || !std::isfinite(reach)
+          ? 0
+          : static_cast<int>(std::min<double>(std::ceil(reach / m_grid.dx()), nodes.maxCoeff()));
+  const auto near_side = [&](int i, int j, int k) {
+    const Eigen::Vector3i ijk(i, j, k);
+    return ((ijk.array() < side_nodes) || (ijk.array() >= nodes.array() - side_nodes)).any();
+  };
   std::vector<std::vector<std::int64_t>> per_thread(omp_get_max_threads());
   std::vector<std::vector<std::int64_t>> clamped_per_thread(clamped ? omp_get_max_threads() : 0);
   // Row by row, the corners by offsets (no index arithmetic per corner).
@@ -79,6 +89,11 @@ void LevelSetAdvector::trace(std::span<const double> in, const NodeFields& veloc
           const std::int64_t node = i + sy * j + sz * k;
           const Eigen::Vector3d x = m_grid.position(Location::Node, Eigen::Vector3i(i, j, k));
           const bool banded = !in_band.empty() && in_band[node] != 0;
+          if (std::abs(in[node]) > reach && !banded && !near_side(i, j, k)) {
+            out[node] = in[node];
+            if (range) range[2 * node] = range[2 * node + 1] = kNan;  // nothing to correct
+            continue;
+          }
           const std::optional<ShellContact> contact =
               banded ? air_contact(x, in[node], shells) : std::nullopt;
           Eigen::Vector3d u = velocity.velocity_at(node);

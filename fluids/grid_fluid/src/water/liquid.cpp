@@ -281,19 +281,45 @@ std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double
   const std::int64_t count = grid.size(Location::Node);
   m_velocity_nodes.resize(count);
   if (reach >= m_level_set.band()) return {};  // the whole band: every node
-  // A node lies within √3Δx/2 of the centres of its (up to 8) cells, and φ is a distance.
-  const Eigen::Vector3i cells = grid.cells();
+  // A node lies within √3Δx/2 of the centres of its (up to 8) cells, and φ is a distance:
+  // a node is needed where one of its cells is, each cell's flag spread to its corners one
+  // axis at a time (x, then y, then z).
   const double node_reach = reach + 0.5 * std::sqrt(3.0) * grid.dx();
+  const std::int64_t cells = grid.size(Location::Cell);
+  auto& near = m_node_flags[0];
+  near.resize(cells);
 #pragma omp parallel for schedule(static)
-  for (std::int64_t i = 0; i < count; ++i) {
-    const Eigen::Vector3i node = grid.coordinates(Location::Node, i);
-    double nearest = kInfinity;
-    for (int corner = 0; corner < 8; ++corner) {
-      const Eigen::Vector3i c =
-          (node - corner_step(corner)).cwiseMax(0).cwiseMin(cells - Eigen::Vector3i::Ones());
-      nearest = std::min(nearest, phi[grid.index(Location::Cell, c)]);
+  for (std::int64_t c = 0; c < cells; ++c) near[c] = phi[c] <= node_reach ? 1 : 0;
+  Eigen::Vector3i dims = grid.cells();
+  const std::vector<std::uint8_t>* from = &near;
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::Vector3i in = dims;
+    dims[a] += 1;
+    std::vector<std::uint8_t>& to = a == 2 ? m_velocity_nodes : m_node_flags[(a + 1) % 2];
+    to.resize(std::int64_t(dims.x()) * dims.y() * dims.z());
+    const std::int64_t in_stride = a == 0 ? 1 : a == 1 ? in.x() : std::int64_t(in.x()) * in.y();
+    const std::int64_t rows = std::int64_t(dims.x()) * dims.y() * dims.z() / dims[a];
+#pragma omp parallel for schedule(static)
+    for (std::int64_t r = 0; r < rows; ++r) {
+      // Row r along a: its other two coordinates, in the input and the output.
+      Eigen::Vector3i at = Eigen::Vector3i::Zero();
+      const int b = (a + 1) % 3, e = (a + 2) % 3;
+      at[b] = static_cast<int>(r % dims[b]);
+      at[e] = static_cast<int>(r / dims[b]);
+      const std::int64_t in_base =
+          at.x() + std::int64_t(in.x()) * (at.y() + std::int64_t(in.y()) * at.z());
+      const std::int64_t out_base =
+          at.x() + std::int64_t(dims.x()) * (at.y() + std::int64_t(dims.y()) * at.z());
+      const std::int64_t out_stride = a == 0   ? 1
+                                      : a == 1 ? dims.x()
+                                               : std::int64_t(dims.x()) * dims.y();
+      for (int i = 0; i < dims[a]; ++i) {
+        const std::uint8_t below = i > 0 ? (*from)[in_base + (i - 1) * in_stride] : 0;
+        const std::uint8_t above = i < in[a] ? (*from)[in_base + i * in_stride] : 0;
+        to[out_base + i * out_stride] = below | above;
+      }
     }
-    m_velocity_nodes[i] = nearest <= node_reach ? 1 : 0;
+    from = &to;
   }
   for (const auto& s : m_sources) {
     if (!s.active(t)) continue;
@@ -366,8 +392,8 @@ void Liquid::centre_velocities(const MacGrid& mac) {
   }
 }
 
-void Liquid::advect(double t, const MacGrid& mac, double dt, const ShellGeometry& shells,
-                    const geometry::ShellBand* band) {
+void Liquid::advect(double t, const MacGrid& mac, double dt, double max_speed,
+                    const ShellGeometry& shells, const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
   centre_velocities(mac);
   const NodeFields& velocity = m_centre_velocity;
@@ -408,7 +434,11 @@ void Liquid::advect(double t, const MacGrid& mac, double dt, const ShellGeometry
     if (m_boundary_phi.any()) ghost = &m_boundary_phi;
   }
   m_fast_marching.set_ghost(ghost);  // this step's reinitialisation reads it too
-  m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid, ghost);
+  // The centres' velocities average the faces: none is faster than the fastest face. A
+  // cell's ray and stencil reach √3Δx beyond its move; a cell more apart from the water.
+  const double reach = max_speed * dt + 3.0 * grid.dx();
+  m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid, ghost,
+                    reach);
   std::swap(m_level_set.phi(), m_scratch);
   if (m_by_phase) end_phase(m_phase_drift.advection, &shells);  // and again after the emitters
   m_stats.t_level_set += seconds_since(start);
@@ -659,6 +689,10 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
   const grid::UniformGrid& grid = m_level_set.mac_grid();
   const Eigen::Vector3i cells = grid.cells();
   const auto& phi = m_level_set.phi();
+  // With F, the faces next to a liquid cell that the extrapolation rewrites keep the
+  // projection's values for F (found in the same pass, per plane k, joined in order).
+  const bool keep = m_fraction.enabled();
+  std::array<std::vector<std::pair<std::int64_t, double>>, 3> kept;
   for (int a = 0; a < 3; ++a) {
     // Known: Neumann faces and the faces the projection set whose φ, the mean of their two
     // cells', is water (PhysBAM's seeds): a face whose surface lies nearer the liquid centre
@@ -669,28 +703,32 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
     auto& known = m_known[a];
     known.resize(grid.size(loc));
     const auto& neumann = projection.neumann(a);
-#pragma omp parallel for collapse(2) schedule(static)
+    const auto& u = mac.face_velocity(a);
+    std::vector<std::vector<std::pair<std::int64_t, double>>> planes(keep ? n.z() : 0);
+#pragma omp parallel for schedule(static)
     for (int k = 0; k < n.z(); ++k)
       for (int j = 0; j < n.y(); ++j)
         for (int i = 0; i < n.x(); ++i) {
-          Eigen::Vector3i c(i, j, k);
+          const Eigen::Vector3i c(i, j, k);
           const std::int64_t f = grid.index(loc, c);
-          bool set = neumann[f] != 0;
-          if (!set) {
-            // A domain face's φ is its one cell's (constant continuation).
-            const Eigen::Vector3i upper = c.cwiseMin(cells - Eigen::Vector3i::Ones());
-            c[a] = std::max(c[a] - 1, 0);
-            set =
-                phi[grid.index(Location::Cell, upper)] + phi[grid.index(Location::Cell, c)] <= 0.0;
-          }
+          // A domain face's φ is its one cell's (constant continuation).
+          const Eigen::Vector3i upper = c.cwiseMin(cells - Eigen::Vector3i::Ones());
+          Eigen::Vector3i lower = c;
+          lower[a] = std::max(c[a] - 1, 0);
+          const bool set = neumann[f] != 0 || phi[grid.index(Location::Cell, upper)] +
+                                                      phi[grid.index(Location::Cell, lower)] <=
+                                                  0.0;
           // 2: a wall's, inflow side's or emitter's face, 3: a shell's.
           known[f] = neumann[f] == 2 ? 3 : neumann[f] != 0 ? 2 : set ? 1 : 0;
+          if (!keep || known[f] != 0) continue;
+          const bool wet =
+              (c[a] < cells[a] && projection.fluid_cell(grid.index(Location::Cell, c))) ||
+              (c[a] > 0 && projection.fluid_cell(grid.index(Location::Cell, lower)));
+          if (wet) planes[k].push_back({f, u[f]});
         }
+    for (const auto& plane : planes) kept[a].insert(kept[a].end(), plane.begin(), plane.end());
   }
-  if (m_fraction.enabled())
-    m_fraction.keep_projected_faces(
-        mac, m_known, [&](std::int64_t cell) { return projection.fluid_cell(cell); },
-        m_held_sources);
+  if (keep) m_fraction.keep_projected_faces(std::move(kept), m_held_sources);
   m_stats.extrapolation =
       m_extrapolation.extrapolate(mac, m_known, m_level_set, m_extrapolation_width, shells, band);
   if (m_fraction.enabled()) {

@@ -404,6 +404,9 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
     const int b = (a + 1) % 3, e = (a + 2) % 3;
     const std::int64_t lines = std::int64_t(n[b]) * n[e];
     m_line_sums.assign(4 * lines, 0.0);  // clipped, dilated, divergence, outflow per line
+    // A line's cells and faces lie a fixed stride apart along a.
+    const std::int64_t cell_stride = m_mac.index(Location::Cell, Eigen::Vector3i::Unit(a));
+    const std::int64_t face_stride = m_mac.index(loc, Eigen::Vector3i::Unit(a));
     std::vector<int> first(lines, n[a]), last(lines, -1);  // each line's span changed
     std::vector<std::vector<std::int64_t>> cut_now(lines);
     const auto& line_start = m_line_start[a];
@@ -416,12 +419,12 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
         for (int lb = m_wet.lo[b]; lb <= m_wet.hi[b]; ++lb) {
           const std::int64_t line = lb + std::int64_t(n[b]) * le;
           Eigen::Vector3i ijk;
+          ijk[a] = 0;
           ijk[b] = lb;
           ijk[e] = le;
-          const auto cell_at = [&](int i) {
-            ijk[a] = i;
-            return m_mac.index(Location::Cell, ijk);
-          };
+          const std::int64_t cell_base = m_mac.index(Location::Cell, ijk);
+          const std::int64_t face_base = m_mac.index(loc, ijk);
+          const auto cell_at = [&](int i) { return cell_base + i * cell_stride; };
           const auto wet = [&](int i) {
             const std::int64_t c = cell_at(i);
             return m_fraction[c] > kFullOrEmpty || phi[c] <= 0.0;
@@ -435,10 +438,7 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
           first[line] = lo;
           last[line] = hi;
           // The faces lo .. hi + 1: the MAC's, those F moves with instead over them.
-          for (int i = lo; i <= hi + 1; ++i) {
-            ijk[a] = i;
-            u[i] = u_mac[m_mac.index(loc, ijk)];
-          }
+          for (int i = lo; i <= hi + 1; ++i) u[i] = u_mac[face_base + i * face_stride];
           for (std::int64_t k = line_start[line]; k < line_start[line + 1]; ++k)
             if (line_faces[k].along >= lo && line_faces[k].along <= hi + 1)
               u[line_faces[k].along] = line_faces[k].u;

@@ -35,6 +35,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <span>
 #include <vector>
@@ -64,9 +65,14 @@ class LevelSetAdvector {
   /// the nodes whose stencil saw no visible node (their `out` value is left as `in`'s).
   /// `ghost`, when given, reads φ at departure points beyond the lattice's box outside the
   /// shell band (the cell-centred φ's open and inflow sides); else φ is continued constant.
+  /// Nodes with |φ| > `reach` [m] keep their φ, but in the shell band and, with a ghost,
+  /// within `reach` of the lattice's sides: a narrow band. With φ a distance and `reach` at
+  /// least max |u| |dt| + √3Δx (the ray and its stencil), the step cannot change their sign,
+  /// and reinitialisation sets their magnitude anew.
   void advect(std::span<const double> in, const NodeFields& velocity, double dt,
               const ShellGeometry& shells, const geometry::ShellBand* band, std::span<double> out,
-              std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost = nullptr);
+              std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost = nullptr,
+              double reach = std::numeric_limits<double>::infinity());
 
   /// φ at `base` by trilinear interpolation over its cell, each node not visible from
   /// `base` replaced by the rule above (without `linear`, the constant continuation alone);
@@ -97,7 +103,7 @@ class LevelSetAdvector {
   void trace(std::span<const double> in, const NodeFields& velocity, double dt,
              const ShellGeometry& shells, const geometry::ShellBand* band, std::span<double> out,
              double* range, std::vector<std::int64_t>& invalid, const BoundaryPhi* ghost,
-             std::vector<std::int64_t>* clamped = nullptr) const;
+             double reach, std::vector<std::int64_t>* clamped = nullptr) const;
   /// The shell point an air node x (φ = p > 0) is within Δx of, unless it lies on an open
   /// edge (past which water runs on): the shell off_shells measures u against.
   std::optional<ShellContact> air_contact(const Eigen::Vector3d& x, double p,

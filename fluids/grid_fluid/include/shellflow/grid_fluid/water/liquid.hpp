@@ -110,9 +110,10 @@ class Liquid {
   /// φ along the velocity's rays, the particles along their second-order paths: the cell
   /// centres' mean of the faces of `mac` (the faces' divergence-free field, whose wall faces
   /// hold the walls' normal velocity). `t`: the time at the start of the step (the emitters
-  /// on then, whose flow the budget counts).
-  void advect(double t, const MacGrid& mac, double dt, const ShellGeometry& shells,
-              const geometry::ShellBand* band);
+  /// on then, whose flow the budget counts). `max_speed` [m/s]: no face of `mac` is faster
+  /// (φ is traced only within a band about the water that it sets).
+  void advect(double t, const MacGrid& mac, double dt, double max_speed,
+              const ShellGeometry& shells, const geometry::ShellBand* band);
   void add_sources(double t, DomainBoundary& boundary);
   /// `swept`: the cells the shells swept n → n+1 (SweptRefill::swept_cells); may be empty.
   /// `shells_n`, `shells`: the shells at the start and the end of the step.
@@ -200,6 +201,7 @@ class Liquid {
   FreeSurface m_surface;
   std::array<std::vector<std::uint8_t>, 3> m_known;
   std::vector<std::uint8_t> m_velocity_nodes;
+  std::array<std::vector<std::uint8_t>, 2> m_node_flags;  ///< velocity_nodes()' passes
   double m_initial_volume = 0.0;
   bool m_initial_volume_measured = false;
   LiquidStats m_stats;

@@ -55,14 +55,17 @@ class VolumeFraction {
   const VolumeFractionStats& stats() const { return m_stats; }
 
   /// Before the velocity extrapolation: the projection's values of the faces next to a
-  /// liquid cell (`liquid(cell)`: the projection's liquid cells) that the extrapolation
-  /// rewrites (`known[axis][face]` 0), and the cells of the emitters whose held faces they
-  /// carry. F moves with `mac`'s faces as the extrapolation leaves them but for those: the
-  /// projection's divergence-free faces next to the water, the extrapolated ones in the air.
-  template <class Liquid>
-  void keep_projected_faces(const MacGrid& mac,
-                            const std::array<std::vector<std::uint8_t>, 3>& known, Liquid&& liquid,
-                            const std::vector<grid::IndexBox>& sources);
+  /// liquid cell that the extrapolation rewrites (`kept[axis]`: (face, u), in face order),
+  /// and the cells of the emitters whose held faces they carry. F moves with the MAC's
+  /// faces as the extrapolation leaves them but for those: the projection's divergence-free
+  /// faces next to the water, the extrapolated ones in the air.
+  void keep_projected_faces(std::array<std::vector<std::pair<std::int64_t, double>>, 3>&& kept,
+                            const std::vector<grid::IndexBox>& sources) {
+    m_faces_kept = true;
+    m_faces_sources = sources;
+    m_kept = std::move(kept);
+    for (auto& cut : m_cut) cut.clear();
+  }
   /// A face a shell cuts passes F through its open share `fraction`, the rest moving with
   /// the shell (`shell_velocity`): the flux the projection's faces balance (FaceApertures).
   void cut_face(int axis, std::int64_t face, double fraction, double shell_velocity) {
@@ -166,37 +169,5 @@ class VolumeFraction {
   std::array<bool, 6> m_open{};
   VolumeFractionStats m_stats;
 };
-
-template <class Liquid>
-void VolumeFraction::keep_projected_faces(const MacGrid& mac,
-                                          const std::array<std::vector<std::uint8_t>, 3>& known,
-                                          Liquid&& liquid,
-                                          const std::vector<grid::IndexBox>& sources) {
-  const Eigen::Vector3i cells = m_mac.cells();
-  m_faces_kept = true;
-  m_faces_sources = sources;
-  for (int a = 0; a < 3; ++a) {
-    const grid::Location loc = face_location(a);
-    const Eigen::Vector3i n = m_mac.counts(loc);
-    const auto& u = mac.face_velocity(a);
-    m_cut[a].clear();
-    // Per plane of faces k, then joined in order: the same list on any thread count.
-    std::vector<std::vector<std::pair<std::int64_t, double>>> planes(n.z());
-#pragma omp parallel for schedule(static)
-    for (int k = 0; k < n.z(); ++k)
-      for (int j = 0; j < n.y(); ++j)
-        for (int i = 0; i < n.x(); ++i) {
-          const std::int64_t f = m_mac.index(loc, i, j, k);
-          if (known[a][f] != 0) continue;  // the extrapolation leaves it as it is
-          Eigen::Vector3i c(i, j, k);
-          bool wet = c[a] < cells[a] && liquid(m_mac.index(grid::Location::Cell, c));
-          c[a] -= 1;
-          wet = wet || (c[a] >= 0 && liquid(m_mac.index(grid::Location::Cell, c)));
-          if (wet) planes[k].push_back({f, u[f]});
-        }
-    m_kept[a].clear();
-    for (const auto& plane : planes) m_kept[a].insert(m_kept[a].end(), plane.begin(), plane.end());
-  }
-}
 
 }  // namespace shellflow::grid_fluid
