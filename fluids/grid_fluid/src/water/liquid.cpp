@@ -356,7 +356,7 @@ grid::IndexBox Liquid::emitter_cells(const WaterSource& s) const {
                             s.bounds().max().array() + mac.dx());
 }
 
-void Liquid::centre_velocities(const MacGrid& mac) {
+void Liquid::centre_velocities(const MacGrid& mac, double within, int side_cells) {
   const grid::UniformGrid& grid = mac.grid();
   const Eigen::Vector3i cells = grid.cells();
   const auto& phi = m_level_set.phi();
@@ -364,15 +364,18 @@ void Liquid::centre_velocities(const MacGrid& mac) {
   const auto shell_face = [&](int a, const Eigen::Vector3i& f) {
     return !m_known[a].empty() && m_known[a][grid.index(face_location(a), f)] == 3;
   };
-  for (int a = 0; a < 3; ++a) {
-    const auto& u = mac.face_velocity(a);
-    auto& out = m_centre_velocity.velocity(a);
 #pragma omp parallel for collapse(2) schedule(static)
-    for (int k = 0; k < cells.z(); ++k)
-      for (int j = 0; j < cells.y(); ++j)
-        for (int i = 0; i < cells.x(); ++i) {
-          const std::int64_t cell = grid.index(Location::Cell, i, j, k);
-          Eigen::Vector3i f(i, j, k);
+  for (int k = 0; k < cells.z(); ++k)
+    for (int j = 0; j < cells.y(); ++j)
+      for (int i = 0; i < cells.x(); ++i) {
+        const std::int64_t cell = grid.index(Location::Cell, i, j, k);
+        const Eigen::Vector3i c(i, j, k);
+        if (std::abs(phi[cell]) > within &&
+            ((c.array() >= side_cells) && (c.array() < cells.array() - side_cells)).all())
+          continue;
+        for (int a = 0; a < 3; ++a) {
+          const auto& u = mac.face_velocity(a);
+          Eigen::Vector3i f = c;
           double lower = u[grid.index(face_location(a), f)];
           f[a] += 1;
           double upper = u[grid.index(face_location(a), f)];
@@ -387,15 +390,26 @@ void Liquid::centre_velocities(const MacGrid& mac) {
             if (solid_below && !solid_above) lower = upper;
             if (solid_above && !solid_below) upper = lower;
           }
-          out[cell] = 0.5 * (lower + upper);
+          m_centre_velocity.velocity(a)[cell] = 0.5 * (lower + upper);
         }
-  }
+      }
 }
 
 void Liquid::advect(double t, const MacGrid& mac, double dt, double max_speed,
                     const ShellGeometry& shells, const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
-  centre_velocities(mac);
+  // φ is traced within `reach` of the water (and, with a ghost, of the open and inflow
+  // sides; among shells, everywhere): the centres' velocities are needed there, at the
+  // rays' midpoints and stencils, and where the particles are (within 3Δx of the water
+  // before they move).
+  const double dx = m_level_set.grid().dx();
+  const double reach = max_speed * dt + 3.0 * dx;
+  const bool ruled_sides = m_walls != std::array<bool, 6>{true, true, true, true, true, true};
+  if (!shells.empty())
+    centre_velocities(mac);
+  else
+    centre_velocities(mac, reach + 0.5 * max_speed * dt + 2.0 * dx,
+                      ruled_sides ? static_cast<int>(std::ceil(reach / dx)) + 2 : 0);
   const NodeFields& velocity = m_centre_velocity;
   m_stats = LiquidStats{};
   m_invalid.clear();
@@ -435,8 +449,8 @@ void Liquid::advect(double t, const MacGrid& mac, double dt, double max_speed,
   }
   m_fast_marching.set_ghost(ghost);  // this step's reinitialisation reads it too
   // The centres' velocities average the faces: none is faster than the fastest face. A
-  // cell's ray and stencil reach √3Δx beyond its move; a cell more apart from the water.
-  const double reach = max_speed * dt + 3.0 * grid.dx();
+  // cell's ray and stencil reach √3Δx beyond its move; a cell more apart from the water
+  // keeps its φ.
   m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid, ghost,
                     reach);
   std::swap(m_level_set.phi(), m_scratch);
@@ -712,18 +726,18 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
           const Eigen::Vector3i c(i, j, k);
           const std::int64_t f = grid.index(loc, c);
           // A domain face's φ is its one cell's (constant continuation).
-          const Eigen::Vector3i upper = c.cwiseMin(cells - Eigen::Vector3i::Ones());
           Eigen::Vector3i lower = c;
           lower[a] = std::max(c[a] - 1, 0);
-          const bool set = neumann[f] != 0 || phi[grid.index(Location::Cell, upper)] +
-                                                      phi[grid.index(Location::Cell, lower)] <=
-                                                  0.0;
+          const std::int64_t below = grid.index(Location::Cell, lower);
+          const std::int64_t above =
+              grid.index(Location::Cell, c.cwiseMin(cells - Eigen::Vector3i::Ones()));
+          const bool set = neumann[f] != 0 || phi[above] + phi[below] <= 0.0;
           // 2: a wall's, inflow side's or emitter's face, 3: a shell's.
           known[f] = neumann[f] == 2 ? 3 : neumann[f] != 0 ? 2 : set ? 1 : 0;
-          if (!keep || known[f] != 0) continue;
-          const bool wet =
-              (c[a] < cells[a] && projection.fluid_cell(grid.index(Location::Cell, c))) ||
-              (c[a] > 0 && projection.fluid_cell(grid.index(Location::Cell, lower)));
+          // The projection's liquid cells have φ <= 0: most faces have none beside them.
+          if (!keep || known[f] != 0 || std::min(phi[above], phi[below]) > 0.0) continue;
+          const bool wet = (c[a] < cells[a] && projection.fluid_cell(above)) ||
+                           (c[a] > 0 && projection.fluid_cell(below));
           if (wet) planes[k].push_back({f, u[f]});
         }
     for (const auto& plane : planes) kept[a].insert(kept[a].end(), plane.begin(), plane.end());

@@ -158,9 +158,13 @@ class Liquid {
                        const geometry::ShellBand* band);
   /// The MAC cells emitter `s`'s shape may reach.
   grid::IndexBox emitter_cells(const WaterSource& s) const;
-  /// advect() on cells: the velocity at each cell centre, the mean of its two faces per axis
-  /// (PhysBAM's Face_To_Cell_Vector), in `m_centre_velocity` on the centres' lattice.
-  void centre_velocities(const MacGrid& mac);
+  /// The velocity at each cell centre, the mean of its two faces per axis (PhysBAM's
+  /// Face_To_Cell_Vector), in `m_centre_velocity` on the centres' lattice: only at the cells
+  /// with |φ| <= `within` [m] or within `side_cells` of a side of the domain (the others
+  /// keep what they held, and nothing this step reads them).
+  void centre_velocities(const MacGrid& mac,
+                         double within = std::numeric_limits<double>::infinity(),
+                         int side_cells = 0);
 
   LevelSet m_level_set;
   NodeFields m_centre_velocity;  ///< what φ's rays follow
