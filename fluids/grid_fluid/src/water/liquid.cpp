@@ -337,14 +337,14 @@ const NodeFields& Liquid::particle_velocity(const MacGrid& mac) {
   return m_centre_velocity;
 }
 
-void Liquid::advect_fraction(double t, const MacGrid& mac, double dt, const ShellGeometry& shells,
-                             const geometry::ShellBand* band) {
+void Liquid::advect_fraction(double t, const MacGrid& mac, double dt, double max_speed,
+                             const ShellGeometry& shells, const geometry::ShellBand* band) {
   // Before the first projection F moves with the faces as they stand, the emitters on now.
   std::vector<grid::IndexBox> on;
   for (const WaterSource& s : m_sources)
     if (s.active(t)) on.push_back(emitter_cells(s));
   mark_cut_cells(shells, band);
-  m_fraction.advect(mac, m_level_set, dt, on, m_cut_cells);
+  m_fraction.advect(mac, m_level_set, dt, max_speed, on, m_cut_cells);
   m_budget.outflow += m_fraction.stats().outflow;
   m_budget.added += m_fraction.stats().dilated;
 }
@@ -402,14 +402,18 @@ void Liquid::advect(double t, const MacGrid& mac, double dt, double max_speed,
   // sides; among shells, everywhere): the centres' velocities are needed there, at the
   // rays' midpoints and stencils, and where the particles are (within 3Δx of the water
   // before they move).
-  const double dx = m_level_set.grid().dx();
-  const double reach = max_speed * dt + 3.0 * dx;
+  // A ray moves a cell by at most max_speed dt, and its stencil reaches √3Δx beyond (2.5Δx:
+  // φ is a distance only up to F's corrections); its midpoint's stencil half the move and
+  // √3Δx beyond that. Particles lie within 3Δx of the water and move as far.
+  const double dx = m_level_set.grid().dx(), move = std::abs(max_speed * dt);
+  const double reach = move + 2.5 * dx;
+  double within = reach + 0.5 * move + 2.0 * dx;
+  if (m_particles.enabled()) within = std::max(within, 5.0 * dx + move);
   const bool ruled_sides = m_walls != std::array<bool, 6>{true, true, true, true, true, true};
   if (!shells.empty())
     centre_velocities(mac);
   else
-    centre_velocities(mac, reach + 0.5 * max_speed * dt + 2.0 * dx,
-                      ruled_sides ? static_cast<int>(std::ceil(reach / dx)) + 2 : 0);
+    centre_velocities(mac, within, ruled_sides ? static_cast<int>(std::ceil(reach / dx)) + 2 : 0);
   const NodeFields& velocity = m_centre_velocity;
   m_stats = LiquidStats{};
   m_invalid.clear();
@@ -421,7 +425,7 @@ void Liquid::advect(double t, const MacGrid& mac, double dt, double max_speed,
     if (!std::isnan(m_phase_end)) m_phase_drift.between_steps += start_volume - m_phase_end;
     m_phase_end = start_volume;
   }
-  if (m_fraction.enabled()) advect_fraction(t, mac, dt, shells, band);
+  if (m_fraction.enabled()) advect_fraction(t, mac, dt, max_speed, shells, band);
   // The volume budget's flows over the step, from φ^n.
   const grid::UniformGrid& grid = m_level_set.mac_grid();
   // With a volume fraction the budget counts what F carries out and what the emitters add
@@ -721,25 +725,32 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
     std::vector<std::vector<std::pair<std::int64_t, double>>> planes(keep ? n.z() : 0);
 #pragma omp parallel for schedule(static)
     for (int k = 0; k < n.z(); ++k)
-      for (int j = 0; j < n.y(); ++j)
+      for (int j = 0; j < n.y(); ++j) {
+        // The row of faces (·, j, k) and the rows of cells either side of it along a (a
+        // domain face's φ is its one cell's: constant continuation).
+        const Eigen::Vector3i first(0, j, k);
+        Eigen::Vector3i lower = first;
+        lower[a] = std::max(first[a] - 1, 0);
+        const Eigen::Vector3i upper = first.cwiseMin(cells - Eigen::Vector3i::Ones());
+        const std::int64_t f0 = grid.index(loc, first);
+        const std::int64_t below0 = grid.index(Location::Cell, lower);
+        const std::int64_t above0 = grid.index(Location::Cell, upper);
         for (int i = 0; i < n.x(); ++i) {
-          const Eigen::Vector3i c(i, j, k);
-          const std::int64_t f = grid.index(loc, c);
-          // A domain face's φ is its one cell's (constant continuation).
-          Eigen::Vector3i lower = c;
-          lower[a] = std::max(c[a] - 1, 0);
-          const std::int64_t below = grid.index(Location::Cell, lower);
-          const std::int64_t above =
-              grid.index(Location::Cell, c.cwiseMin(cells - Eigen::Vector3i::Ones()));
+          const std::int64_t f = f0 + i;
+          // Along x the two cells are i − 1 and i (clamped); across x, the rows' i-th.
+          const std::int64_t below = a == 0 ? below0 + std::max(i - 1, 0) : below0 + i;
+          const std::int64_t above = a == 0 ? above0 + std::min(i, cells.x() - 1) : above0 + i;
           const bool set = neumann[f] != 0 || phi[above] + phi[below] <= 0.0;
           // 2: a wall's, inflow side's or emitter's face, 3: a shell's.
           known[f] = neumann[f] == 2 ? 3 : neumann[f] != 0 ? 2 : set ? 1 : 0;
           // The projection's liquid cells have φ <= 0: most faces have none beside them.
           if (!keep || known[f] != 0 || std::min(phi[above], phi[below]) > 0.0) continue;
-          const bool wet = (c[a] < cells[a] && projection.fluid_cell(above)) ||
-                           (c[a] > 0 && projection.fluid_cell(below));
+          const int along = a == 0 ? i : first[a];
+          const bool wet = (along < cells[a] && projection.fluid_cell(above)) ||
+                           (along > 0 && projection.fluid_cell(below));
           if (wet) planes[k].push_back({f, u[f]});
         }
+      }
     for (const auto& plane : planes) kept[a].insert(kept[a].end(), plane.begin(), plane.end());
   }
   if (keep) m_fraction.keep_projected_faces(std::move(kept), m_held_sources);

@@ -279,22 +279,8 @@ void VolumeFraction::gather_line_faces(const MacGrid& mac) {
   }
 }
 
-double VolumeFraction::fastest_face(const MacGrid& mac) const {
-  // Over every face of `mac` and the faces F moves with instead: no less than the fastest
-  // face F reads (the kept ones may outrun the extrapolated MAC's).
-  double fastest = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    const auto& u = mac.face_velocity(a);
-    const std::int64_t count = static_cast<std::int64_t>(u.size());
-#pragma omp parallel for schedule(static) reduction(max : fastest)
-    for (std::int64_t f = 0; f < count; ++f) fastest = std::max(fastest, std::abs(u[f]));
-    for (const LineFace& face : m_line_faces[a]) fastest = std::max(fastest, std::abs(face.u));
-  }
-  return fastest;
-}
-
 void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, double dt,
-                            const std::vector<grid::IndexBox>& on,
+                            double max_speed, const std::vector<grid::IndexBox>& on,
                             std::span<const std::uint8_t> cut) {
   const std::vector<grid::IndexBox>& sources = m_faces_kept ? m_faces_sources : on;
   const std::int64_t step = m_steps++;
@@ -303,8 +289,11 @@ void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, doubl
   // Weymouth and Yue's sweeps keep F in [0, 1] up to a Courant number of ½ per sweep: the
   // step is split to stay within it (the faces next to liquid cells carry the projection's
   // values, which may outrun the step's CFL speed where θ is small), up to kMostParts.
-  const int parts = std::clamp(
-      static_cast<int>(std::ceil(fastest_face(mac) * dt / m_mac.dx() / 0.5)), 1, kMostParts);
+  double fastest = max_speed;  // the MAC's faces, and those F moves with instead
+  for (const auto& faces : m_line_faces)
+    for (const LineFace& face : faces) fastest = std::max(fastest, std::abs(face.u));
+  const int parts =
+      std::clamp(static_cast<int>(std::ceil(fastest * dt / m_mac.dx() / 0.5)), 1, kMostParts);
   // The dilation term's cells: the liquid cells of φ^n, whose faces the projection made
   // divergence free, so that the terms add up to nothing (Weymouth and Yue take F > ½,
   // which φ^n's liquid cells are once correct() has moved φ to F) but in the emitters'

@@ -154,8 +154,8 @@ class Liquid {
   /// m_cut_cells: F leaves φ as it is there.
   void mark_cut_cells(const ShellGeometry& shells, const geometry::ShellBand* band);
   /// advect()'s part for the water fraction: F over dt, its flows into the budget.
-  void advect_fraction(double t, const MacGrid& mac, double dt, const ShellGeometry& shells,
-                       const geometry::ShellBand* band);
+  void advect_fraction(double t, const MacGrid& mac, double dt, double max_speed,
+                       const ShellGeometry& shells, const geometry::ShellBand* band);
   /// The MAC cells emitter `s`'s shape may reach.
   grid::IndexBox emitter_cells(const WaterSource& s) const;
   /// The velocity at each cell centre, the mean of its two faces per axis (PhysBAM's

@@ -76,9 +76,9 @@ class VolumeFraction {
   /// dilation term makes in the emitters' cells is added water. The sweeps' order
   /// alternates step by step (x y z, then z y x). `cut` (one byte per cell, may be empty):
   /// the cells a shell cuts, whose φ correct() leaves alone.
-  void advect(const MacGrid& mac, const LevelSet& level_set, double dt,
-              const std::vector<grid::IndexBox>& on = {},
-              std::span<const std::uint8_t> cut = {});
+  /// `max_speed` [m/s]: no face of `mac` is faster.
+  void advect(const MacGrid& mac, const LevelSet& level_set, double dt, double max_speed,
+              const std::vector<grid::IndexBox>& on = {}, std::span<const std::uint8_t> cut = {});
   /// For a checkpoint: F, the faces it moves with next (whole columns, `mac`'s with the
   /// kept ones over them) and their emitters, the steps, what its lower bound raised.
   /// restore() reads `mac`'s faces restored before it.
@@ -118,8 +118,6 @@ class VolumeFraction {
   /// The faces F moves with that differ from `mac`'s, per axis by line of cells
   /// (m_line_faces, m_line_start): what the sweeps read over `mac`'s own.
   void gather_line_faces(const MacGrid& mac);
-  /// The largest |u| of `mac`'s faces and those gather_line_faces() found.
-  double fastest_face(const MacGrid& mac) const;
   /// Gives `cell` (cut by F now) a plane, its normal found at the next pass.
   void add_plane(std::int64_t cell);
   /// The three sweeps over dt (its Courant number at most ½), in the order `order` picks;
