@@ -23,7 +23,8 @@ FastMarching::FastMarching(const grid::UniformGrid& grid) : m_grid(grid) {}
 
 FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
                                              const ShellGeometry& shells,
-                                             const geometry::ShellBand* shell_band) {
+                                             const geometry::ShellBand* shell_band,
+                                             std::vector<double>* scratch) {
   FastMarchingStats stats;
   const std::int64_t count = m_grid.size(Location::Node);
   const Eigen::Vector3i n = m_grid.counts(Location::Node);
@@ -31,10 +32,11 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
   const double dx = m_grid.dx();
   if (m_hidden.size() != static_cast<size_t>(count)) {
     m_hidden.assign(count, 0);
-    m_distance.resize(count);
     m_accepted.resize(count);
     m_held.resize(count);
   }
+  std::vector<double>& distance_of = scratch != nullptr ? *scratch : m_distance;
+  distance_of.resize(count);
   for (const std::int64_t i : m_hidden_list) m_hidden[i] = 0;
   m_hidden_list.clear();
 
@@ -122,7 +124,7 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
     if (held) dist = std::min(dist, std::abs(p));
     m_accepted[i] = found ? 1 : 0;
     m_held[i] = (!found && held) ? 1 : 0;
-    m_distance[i] = dist;
+    distance_of[i] = dist;
     interface_nodes += found ? 1 : 0;
   }
   stats.interface_nodes = interface_nodes;
@@ -149,8 +151,8 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
       if (m_accepted[j] == 0) return kInf;
       // Second order never reaches through a node next to a shell (its |φ| is held).
       if (across && m_hidden[j] != 0) return kInf;
-      if ((phi[j] <= 0.0) == water) return m_distance[j];
-      return across ? -m_distance[j] : kInf;
+      if ((phi[j] <= 0.0) == water) return distance_of[j];
+      return across ? -distance_of[j] : kInf;
     };
     std::array<std::pair<double, double>, 3> terms;  // (upwind value ã, weight)
     int used = 0;
@@ -188,8 +190,8 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
       const double disc = swa * swa - sw * (swa2 - dx * dx);
       d = (swa + std::sqrt(std::max(disc, 0.0))) / sw;
     }
-    if (d < m_distance[i]) {
-      m_distance[i] = d;
+    if (d < distance_of[i]) {
+      distance_of[i] = d;
       heap.push({d, i});
     }
   };
@@ -204,7 +206,7 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
       }
   };
   for (const std::int64_t i : m_hidden_list)
-    if (m_held[i] != 0) heap.push({m_distance[i], i});  // tentative: the march may lower it
+    if (m_held[i] != 0) heap.push({distance_of[i], i});  // tentative: the march may lower it
   for (std::int64_t i = 0; i < count; ++i)
     if (m_accepted[i] != 0)
       neighbours(i, [&](std::int64_t j) {
@@ -217,7 +219,7 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
     const double d = heap.top().first;
     const std::int64_t i = heap.top().second;
     heap.pop();
-    if (m_accepted[i] != 0 || d > m_distance[i]) continue;  // stale entry
+    if (m_accepted[i] != 0 || d > distance_of[i]) continue;  // stale entry
     if (d > band) break;
     m_accepted[i] = 1;
     ++marched;
@@ -229,7 +231,7 @@ FastMarchingStats FastMarching::reinitialize(std::span<double> phi, double band,
 
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < count; ++i) {
-    const double d = m_accepted[i] != 0 ? std::min(m_distance[i], band) : band;
+    const double d = m_accepted[i] != 0 ? std::min(distance_of[i], band) : band;
     phi[i] = phi[i] <= 0.0 ? -d : d;
   }
   return stats;

@@ -172,7 +172,8 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   // The pools' planes and boxes are exact distances; meshes and unions are made one (again
   // at the first step, with its shells).
   m_built = m_level_set.phi();
-  m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), ShellGeometry(), nullptr);
+  m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), ShellGeometry(), nullptr,
+                               &m_scratch);
   m_marched_hash = bytes_hash(m_level_set.phi());
   if (params.at("volume_fraction").get<bool>()) {
     m_fraction = VolumeFraction(m_level_set);
@@ -267,7 +268,7 @@ void Liquid::settle_among_shells(const ShellGeometry& shells, const geometry::Sh
   if (!shells.empty() && bytes_hash(m_level_set.phi()) == m_marched_hash) {
     m_level_set.phi() = m_built;
     if (band != nullptr) forget_faces_on_shells(shells, *band);
-    m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
+    m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band, &m_scratch);
     m_particles.seed(m_level_set, shells);  // about that φ, and kept off the shells
     if (m_fraction.enabled()) m_fraction.fit(m_level_set, m_scratch);  // and F from it
   }
@@ -593,7 +594,7 @@ void Liquid::reinitialize(const ShellGeometry& shells_n, const ShellGeometry& sh
   }
   const auto start = std::chrono::steady_clock::now();
   m_stats.reinitialization =
-      m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band);
+      m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band, &m_scratch);
   m_stats.t_reinitialize = seconds_since(start);
   m_particles.correct(m_level_set, shells);
   m_particles.adjust(m_level_set, shells);

@@ -87,7 +87,7 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
       }
       return slope;
     };
-    if (m_linear) m_slope.assign(count, std::numeric_limits<double>::quiet_NaN());
+    m_slope.clear();
     std::vector<std::int64_t> invalid;
     // Sequential in φ order: each face reads only faces of lower φ, already final.
     for (const auto& [phi_f, f] : m_order) {
@@ -111,8 +111,9 @@ ExtrapolationStats VelocityExtrapolation::extrapolate(
           weighted += (phi_f - best_phi) * u[best];
           weights += phi_f - best_phi;
           if (linear) {
-            if (std::isnan(m_slope[best])) m_slope[best] = normal_slope(best);
-            slope_weighted += (phi_f - best_phi) * m_slope[best];
+            auto [known_slope, fresh] = m_slope.try_emplace(best, 0.0);
+            if (fresh) known_slope->second = normal_slope(best);
+            slope_weighted += (phi_f - best_phi) * known_slope->second;
           }
         }
       }

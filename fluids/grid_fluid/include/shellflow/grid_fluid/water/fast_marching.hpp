@@ -50,9 +50,12 @@ class FastMarching {
  public:
   explicit FastMarching(const grid::UniformGrid& grid);
 
-  /// Reinitialises `phi` (node values) to a signed distance within `band` [m].
+  /// Reinitialises `phi` (node values) to a signed distance within `band` [m]. `scratch`,
+  /// when given, holds the distances being built (any contents; the caller's spare buffer of
+  /// φ's size), else the marcher's own.
   FastMarchingStats reinitialize(std::span<double> phi, double band, const ShellGeometry& shells,
-                                 const geometry::ShellBand* shell_band);
+                                 const geometry::ShellBand* shell_band,
+                                 std::vector<double>* scratch = nullptr);
   /// φ beyond the lattice's sides for the marches that follow: a water node on a side whose
   /// row pulls away has the ghost beyond it as an air neighbour (BoundaryPhi); null (the
   /// default): no neighbour there, φ continued constant. Kept, not copied.

@@ -171,7 +171,7 @@ class Liquid {
   VolumeFraction m_fraction;
   std::vector<grid::IndexBox> m_held_sources;  ///< cells of the emitters on this step
   std::vector<double> m_scratch;  ///< φ* being advected; after advect(), φ^n until refill(); then
-                                  ///< the volume fraction's scratch
+                                  ///< fast marching's distances and the volume fraction's scratch
   std::vector<double> m_swept_value;  ///< refill(): their φ^n carried with the shell
   std::vector<std::uint8_t> m_cut_cells;    ///< mark_cut_cells()'
   std::vector<std::int64_t> m_cut_list;     ///< those, as a list

@@ -17,6 +17,7 @@
 
 #include <array>
 #include <cstdint>
+#include <unordered_map>
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
@@ -52,7 +53,9 @@ class VelocityExtrapolation {
   bool m_linear = false;
   std::vector<double> m_face_phi;
   std::vector<std::uint8_t> m_valid;
-  std::vector<double> m_slope;  ///< linear: ∇φ·∇u per face (NaN: not computed yet)
+  /// linear: ∇φ·∇u of the faces within a cell of the surface and the known faces they read,
+  /// once computed (a map: a few per cent of the faces).
+  std::unordered_map<std::int64_t, double> m_slope;
   std::vector<std::pair<double, std::int64_t>> m_order;
 };
 
