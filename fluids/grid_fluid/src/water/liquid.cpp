@@ -46,6 +46,42 @@ const grid::UniformGrid& water_grid(const nlohmann::json& params, const grid::Un
   return grid;
 }
 
+/// `to`, one byte per node of a grid of `cells`: 1 where any of the node's (up to 8) cells is
+/// flagged in `flags` (one byte per cell, overwritten: it and `scratch` hold the passes), the
+/// flags spread one axis at a time.
+void spread_to_corners(const Eigen::Vector3i& cells, std::vector<std::uint8_t>& flags,
+                       std::vector<std::uint8_t>& scratch, std::vector<std::uint8_t>& to) {
+  Eigen::Vector3i dims = cells;
+  std::vector<std::uint8_t>* from = &flags;
+  for (int a = 0; a < 3; ++a) {
+    const Eigen::Vector3i in = dims;
+    dims[a] += 1;
+    std::vector<std::uint8_t>& out = a == 2 ? to : a == 0 ? scratch : flags;
+    out.resize(std::int64_t(dims.x()) * dims.y() * dims.z());
+    const auto stride = [](const Eigen::Vector3i& d, int axis) {
+      return axis == 0   ? std::int64_t(1)
+             : axis == 1 ? std::int64_t(d.x())
+                         : std::int64_t(d.x()) * d.y();
+    };
+    const std::int64_t in_stride = stride(in, a), out_stride = stride(dims, a);
+    const int b = (a + 1) % 3, e = (a + 2) % 3;
+    const std::int64_t rows = std::int64_t(dims[b]) * dims[e];
+#pragma omp parallel for schedule(static)
+    for (std::int64_t r = 0; r < rows; ++r) {
+      // Row r along a: its other two coordinates, the same in the input and the output.
+      const std::int64_t in_base = (r % dims[b]) * stride(in, b) + (r / dims[b]) * stride(in, e);
+      const std::int64_t out_base =
+          (r % dims[b]) * stride(dims, b) + (r / dims[b]) * stride(dims, e);
+      for (int i = 0; i < dims[a]; ++i) {
+        const std::uint8_t below = i > 0 ? (*from)[in_base + (i - 1) * in_stride] : 0;
+        const std::uint8_t above = i < in[a] ? (*from)[in_base + i * in_stride] : 0;
+        out[out_base + i * out_stride] = below | above;
+      }
+    }
+    from = &out;
+  }
+}
+
 }  // namespace
 
 sdk::Schema Liquid::schema() {
@@ -283,45 +319,14 @@ std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double
   m_velocity_nodes.resize(count);
   if (reach >= m_level_set.band()) return {};  // the whole band: every node
   // A node lies within √3Δx/2 of the centres of its (up to 8) cells, and φ is a distance:
-  // a node is needed where one of its cells is, each cell's flag spread to its corners one
-  // axis at a time (x, then y, then z).
+  // a node is needed where one of its cells is.
   const double node_reach = reach + 0.5 * std::sqrt(3.0) * grid.dx();
   const std::int64_t cells = grid.size(Location::Cell);
   auto& near = m_node_flags[0];
   near.resize(cells);
 #pragma omp parallel for schedule(static)
   for (std::int64_t c = 0; c < cells; ++c) near[c] = phi[c] <= node_reach ? 1 : 0;
-  Eigen::Vector3i dims = grid.cells();
-  const std::vector<std::uint8_t>* from = &near;
-  for (int a = 0; a < 3; ++a) {
-    const Eigen::Vector3i in = dims;
-    dims[a] += 1;
-    std::vector<std::uint8_t>& to = a == 2 ? m_velocity_nodes : m_node_flags[(a + 1) % 2];
-    to.resize(std::int64_t(dims.x()) * dims.y() * dims.z());
-    const std::int64_t in_stride = a == 0 ? 1 : a == 1 ? in.x() : std::int64_t(in.x()) * in.y();
-    const std::int64_t rows = std::int64_t(dims.x()) * dims.y() * dims.z() / dims[a];
-#pragma omp parallel for schedule(static)
-    for (std::int64_t r = 0; r < rows; ++r) {
-      // Row r along a: its other two coordinates, in the input and the output.
-      Eigen::Vector3i at = Eigen::Vector3i::Zero();
-      const int b = (a + 1) % 3, e = (a + 2) % 3;
-      at[b] = static_cast<int>(r % dims[b]);
-      at[e] = static_cast<int>(r / dims[b]);
-      const std::int64_t in_base =
-          at.x() + std::int64_t(in.x()) * (at.y() + std::int64_t(in.y()) * at.z());
-      const std::int64_t out_base =
-          at.x() + std::int64_t(dims.x()) * (at.y() + std::int64_t(dims.y()) * at.z());
-      const std::int64_t out_stride = a == 0   ? 1
-                                      : a == 1 ? dims.x()
-                                               : std::int64_t(dims.x()) * dims.y();
-      for (int i = 0; i < dims[a]; ++i) {
-        const std::uint8_t below = i > 0 ? (*from)[in_base + (i - 1) * in_stride] : 0;
-        const std::uint8_t above = i < in[a] ? (*from)[in_base + i * in_stride] : 0;
-        to[out_base + i * out_stride] = below | above;
-      }
-    }
-    from = &to;
-  }
+  spread_to_corners(grid.cells(), near, m_node_flags[1], m_velocity_nodes);
   for (const auto& s : m_sources) {
     if (!s.active(t)) continue;
     const grid::IndexBox box = s.bounding_nodes(grid, reach);
@@ -399,13 +404,11 @@ void Liquid::centre_velocities(const MacGrid& mac, double within, int side_cells
 void Liquid::advect(double t, const MacGrid& mac, double dt, double max_speed,
                     const ShellGeometry& shells, const geometry::ShellBand* band) {
   const auto start = std::chrono::steady_clock::now();
-  // φ is traced within `reach` of the water (and, with a ghost, of the open and inflow
-  // sides; among shells, everywhere): the centres' velocities are needed there, at the
-  // rays' midpoints and stencils, and where the particles are (within 3Δx of the water
-  // before they move).
-  // A ray moves a cell by at most max_speed dt, and its stencil reaches √3Δx beyond (2.5Δx:
-  // φ is a distance only up to F's corrections); its midpoint's stencil half the move and
-  // √3Δx beyond that. Particles lie within 3Δx of the water and move as far.
+  // φ is traced only within `reach` of the water: a ray moves at most max_speed dt (the
+  // centres average the faces) and its stencil reaches √3Δx beyond (2.5Δx: φ is a distance
+  // only up to F's corrections). The centres' velocities are made where those rays, their
+  // midpoints' stencils and the particles (within 3Δx of the water) read them; among
+  // shells everywhere, and near open or inflow sides as far as the advector traces there.
   const double dx = m_level_set.grid().dx(), move = std::abs(max_speed * dt);
   const double reach = move + 2.5 * dx;
   double within = reach + 0.5 * move + 2.0 * dx;
@@ -453,9 +456,6 @@ void Liquid::advect(double t, const MacGrid& mac, double dt, double max_speed,
     if (m_boundary_phi.any()) ghost = &m_boundary_phi;
   }
   m_fast_marching.set_ghost(ghost);  // this step's reinitialisation reads it too
-  // The centres' velocities average the faces: none is faster than the fastest face. A
-  // cell's ray and stencil reach √3Δx beyond its move; a cell more apart from the water
-  // keeps its φ.
   m_advector.advect(m_level_set.phi(), velocity, dt, shells, band, m_scratch, m_invalid, ghost,
                     reach);
   std::swap(m_level_set.phi(), m_scratch);
@@ -502,8 +502,8 @@ void Liquid::add_sources(double t, DomainBoundary& boundary) {
 void Liquid::carry_swept_cells(std::span<const std::int64_t> swept, double dt,
                                const ShellGeometry& shells_n, const ShellGeometry& shells) {
   const NodeFields& velocity = m_centre_velocity;  // what advect() traced with
-  // Swept nodes hold φ from the other side of the shell (§3); they lie on the side the
-  // shell moved away from. A swept node takes φ^n where the water there came from, on its
+  // Swept cells hold φ from the other side of the shell (§3); they lie on the side the
+  // shell moved away from. A swept cell takes φ^n where the water there came from, on its
   // side of the shell then: back along the shell by its own (refilled) velocity, and
   // across it by its nearest shell point's move over the step, which the water next to
   // the shell keeps up with, or by the water's own move where that lags. A film on a

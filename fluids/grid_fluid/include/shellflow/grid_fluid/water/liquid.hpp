@@ -205,7 +205,7 @@ class Liquid {
   FreeSurface m_surface;
   std::array<std::vector<std::uint8_t>, 3> m_known;
   std::vector<std::uint8_t> m_velocity_nodes;
-  std::array<std::vector<std::uint8_t>, 2> m_node_flags;  ///< velocity_nodes()' passes
+  std::array<std::vector<std::uint8_t>, 2> m_node_flags;  ///< velocity_nodes()' cells, passes
   double m_initial_volume = 0.0;
   bool m_initial_volume_measured = false;
   LiquidStats m_stats;
