@@ -12,6 +12,7 @@
 #include "grid_fluid_test_support.hpp"
 #include "shellflow/grid_fluid/water/fast_marching.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
+#include "shellflow/grid_fluid/water/level_set_advector.hpp"
 #include "shellflow/grid_fluid/water/velocity_extrapolation.hpp"
 
 namespace shellflow::grid_fluid {
@@ -366,6 +367,48 @@ TEST_P(WaterAmongShells, ThinWallDamMovingSlowlyKeepsTheDrySideDry) {
   }
   EXPECT_EQ(wet_nodes_beyond(*fluid, x), 0);
   EXPECT_GT(fluid->liquid()->level_set().liquid_cells(), 0);
+}
+
+TEST(LevelSetAdvection, TracingOnlyNearTheWaterGivesTheSameLevelSetOnceReinitialised) {
+  // LevelSetAdvector::advect's `reach`: cells farther than max |u| Δt + 2.5Δx from the water
+  // keep their φ, which fast marching then sets anew. A sphere (r = 5.3Δx, off the centres)
+  // in a swirling flow (|u| up to 1.3 m/s, Δt = 0.9Δx / max |u|), traced every cell or only
+  // the band, then reinitialised: the same φ to the bit.
+  const grid::UniformGrid mac(Eigen::Vector3d::Zero(), 1.0 / 24, Eigen::Vector3i::Constant(24));
+  LevelSet level_set(mac, 6.0 * mac.dx());
+  const grid::UniformGrid& lattice = level_set.grid();
+  const double dx = lattice.dx();
+  const Eigen::Vector3d c(0.5 + 0.31 * dx, 0.5 - 0.17 * dx, 0.5 + 0.07 * dx);
+  auto& phi = level_set.phi();
+  for (std::int64_t i = 0; i < static_cast<std::int64_t>(phi.size()); ++i)
+    phi[i] = std::clamp((lattice.position(Location::Node, i) - c).norm() - 5.3 * dx,
+                        -level_set.band(), level_set.band());
+  NodeFields velocity(lattice, 0.0, false);
+  double fastest = 0.0;
+  for (std::int64_t i = 0; i < velocity.size(); ++i) {
+    const Eigen::Vector3d x = lattice.position(Location::Node, i) - Eigen::Vector3d::Constant(0.5);
+    const Eigen::Vector3d u(-x.y() + 0.3, x.x() + 0.2 * x.z(), 0.5 * x.y() - 0.1);
+    for (int a = 0; a < 3; ++a) velocity.velocity(a)[i] = 2.0 * u[a];
+    fastest = std::max(fastest, 2.0 * u.norm());
+  }
+  const double dt = 0.9 * dx / fastest;
+  for (const bool maccormack : {false, true}) {
+    LevelSetAdvector advector(lattice, maccormack);
+    std::vector<double> everywhere(phi.size()), banded(phi.size());
+    std::vector<std::int64_t> invalid;
+    advector.advect(phi, velocity, dt, ShellGeometry(), nullptr, everywhere, invalid);
+    advector.advect(phi, velocity, dt, ShellGeometry(), nullptr, banded, invalid, nullptr,
+                    fastest * dt + 2.5 * dx);
+    EXPECT_TRUE(invalid.empty());
+    // Not vacuous: thousands of cells the band kept would have been traced to another φ.
+    int differ = 0;
+    for (size_t i = 0; i < phi.size(); ++i) differ += banded[i] != everywhere[i] ? 1 : 0;
+    EXPECT_GT(differ, 1000) << maccormack;
+    FastMarching fmm(lattice);
+    fmm.reinitialize(everywhere, level_set.band(), ShellGeometry(), nullptr);
+    fmm.reinitialize(banded, level_set.band(), ShellGeometry(), nullptr);
+    EXPECT_EQ(banded, everywhere) << (maccormack ? "MacCormack" : "trilinear");
+  }
 }
 
 TEST(FastMarching, ReinitialisesAStretchedSphereToItsDistance) {

@@ -417,7 +417,7 @@ void Liquid::advect(double t, const MacGrid& mac, double dt, double max_speed,
   if (!shells.empty())
     centre_velocities(mac);
   else
-    centre_velocities(mac, within, ruled_sides ? static_cast<int>(std::ceil(reach / dx)) + 2 : 0);
+    centre_velocities(mac, within, ruled_sides ? static_cast<int>(std::ceil(within / dx)) + 1 : 0);
   const NodeFields& velocity = m_centre_velocity;
   m_stats = LiquidStats{};
   m_invalid.clear();
