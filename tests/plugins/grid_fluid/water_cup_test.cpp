@@ -282,11 +282,10 @@ TEST(WaterCup, TheWaterStandingInTheCupIsReadWhereverTheCupStands) {
 
 // The inscribed box collapses in the cup: it leaves a ring of air 1.6Δx wide against the
 // wall, falls into it as a dam break and shoots up the wall in a sheet thinner than the
-// cells the wall cuts. The node level set lost 72% of it by 1.5 s (docs/history.md). On
-// the defaults the run's volume is F's: kept to what F's bounds clip (measured 8.4e-6 of
-// it; bound 1e-4).
-// φ, which the mesh shows, follows F's planes except in the cells the wall cuts, left to
-// the level set: measured +7.4% on φ's own volume (one F per cut cell, #52); bound 10%.
+// cells the wall cuts. On the defaults the run's volume is F's: it changes only by what F's
+// bounds clip (bound 1e-4 of it, an order above the measured). φ, which the mesh shows,
+// follows F's planes except in the cells the wall cuts, left to the level set (one F per cut
+// cell, #52): bound a tenth of the water, above the measured (docs/measured-figures.md).
 TEST(WaterCup, CollapsingWaterInTheCupKeepsItsVolume) {
   auto fluid = test::make_fluid(cup_params(water_in_the_cup()));
   const double v0 = fluid->liquid()->level_set().volume();

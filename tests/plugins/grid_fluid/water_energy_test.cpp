@@ -129,13 +129,12 @@ TEST(WaterEnergy, ASlabInFreeFallTradesPotentialForKineticEnergy) {
   // steps of 0.01 s: it falls 0.3 m, the floor stays 0.7 m away. Wall to wall, its φ is a
   // function of height alone, linear within two cells of each surface, which advection and
   // marching keep exactly (5.6 cells deep: the kink of φ in its middle stays out of the
-  // surface cells' stencils; a slab 3.5 cells deep read K off by 3e-5 of itself; a
-  // box a few cells wide loses the water of its edges and corners to the level set, and P
-  // with it). In free fall p = 0 and every water face moves at −g t (a uniform field is
-  // advected, extended and projected exactly), and a column's K weights sum to its cell
-  // fractions for a surface parallel to the cells, so K = ½ m g² t².
-  // φ moves with u^n while u gains g Δt after it (explicit in position): the slab falls
-  // ½ g t² − ½ g t Δt, so K + P rises by ½ m g² t Δt, O(Δt).
+  // surface cells' stencils, which K's weights read; a box a few cells wide loses the water of its
+  // edges and corners to the level set, and P with it). In free fall p = 0 and every water face
+  // moves at −g t (a uniform field is advected, extended and projected exactly), and a column's K
+  // weights sum to its cell fractions for a surface parallel to the cells, so K = ½ m g² t². φ
+  // moves with u^n while u gains g Δt after it (explicit in position): the slab falls ½ g t² − ½ g
+  // t Δt, so K + P rises by ½ m g² t Δt, O(Δt).
   const double dt = 0.01, depth = 0.35;
   auto fluid = test::make_fluid(water_params(
       24,

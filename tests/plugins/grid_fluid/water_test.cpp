@@ -499,12 +499,12 @@ double collapsing_box_worst_change(int resolution, const char* core, const char*
 
 TEST(LevelSetAdvection, ABoxCollapsingInANarrowTankKeepsItsWater) {
   // 24 cells up (16.5 across), 0.6 s: the box falls, runs up all four walls and back in
-  // sheets a cell or two thick. The trilinear step alone swings by up to 9.4% (measured;
-  // its wall cells hold the sheets, which the node level set lost: −41% at the end); bound
-  // 12%. With the volume fraction (the default) the volume is F's on either φ step: it
-  // changes only by what F's bounds clip (measured 3.6e-9 trilinear, 1.3e-5 MacCormack,
-  // whose sharper φ F's planes follow); bound 1e-4. MacCormack's step alone loses more than
-  // the trilinear one here, −22.5% (docs/known-limits.md): printed, not asserted.
+  // sheets a cell or two thick. The trilinear step alone: its wall cells hold the sheets,
+  // bound 12 % of the water, a quarter above the measured swing. With the volume fraction
+  // (the default) the volume is F's on either φ step and changes only by what F's bounds
+  // clip (MacCormack's sharper φ, whose planes F follows, clips most): bound 1e-4.
+  // MacCormack's step alone loses more than the trilinear one here (a known limit,
+  // docs/known-limits.md): printed, not asserted. Figures: docs/measured-figures.md.
   const double trilinear = collapsing_box_worst_change(24, "cells", "semi_lagrangian", 0.6);
   const double maccormack = collapsing_box_worst_change(24, "cells", "maccormack", 0.6);
   const double fraction = collapsing_box_worst_change(24, "fraction", "semi_lagrangian", 0.6);

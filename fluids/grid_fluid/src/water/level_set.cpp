@@ -24,7 +24,7 @@ grid::UniformGrid LevelSet::cell_centre_lattice(const grid::UniformGrid& mac) {
 
 namespace {
 
-/// `band`'s samples for φ's lattice: its cells, whose centres are the lattice's nodes.
+/// Throws unless `lattice`'s nodes are `band`'s cell centres (φ's samples are its cells).
 void require_cell_lattice(const geometry::ShellBand& band, const grid::UniformGrid& lattice) {
   if (lattice.counts(Location::Node) != band.grid().counts(Location::Cell))
     throw std::invalid_argument("LevelSet: a lattice that is not the band's cell centres");

@@ -315,8 +315,6 @@ std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double
   const grid::UniformGrid& grid = m_level_set.mac_grid();
   const double reach = dt * max_speed + (std::sqrt(3.0) + 1.0) * grid.dx();
   const auto& phi = m_level_set.phi();
-  const std::int64_t count = grid.size(Location::Node);
-  m_velocity_nodes.resize(count);
   if (reach >= m_level_set.band()) return {};  // the whole band: every node
   // A node lies within √3Δx/2 of the centres of its (up to 8) cells, and φ is a distance:
   // a node is needed where one of its cells is.

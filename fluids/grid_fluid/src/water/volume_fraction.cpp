@@ -179,12 +179,31 @@ Eigen::Vector3d VolumeFraction::normal_at(const LevelSet& level_set, const Eigen
   return g.normalized();
 }
 
+std::vector<std::pair<std::int64_t, double>> VolumeFraction::moved_faces(int axis,
+                                                                         const MacGrid& mac) const {
+  // The kept projection's values, then a cut face's share of what it holds.
+  std::vector<std::pair<std::int64_t, double>> faces;
+  if (!m_faces_kept) return faces;
+  const auto& u = mac.face_velocity(axis);
+  faces = m_kept[axis];  // in face order
+  for (const CutFace& cut : m_cut[axis]) {
+    const auto at =
+        std::lower_bound(faces.begin(), faces.end(), cut.face,
+                         [](const auto& entry, std::int64_t face) { return entry.first < face; });
+    const bool kept = at != faces.end() && at->first == cut.face;
+    const double base = kept ? at->second : u[cut.face];
+    const double shared = cut.fraction * base + (1.0 - cut.fraction) * cut.shell_velocity;
+    if (kept)
+      at->second = shared;
+    else
+      faces.insert(at, {cut.face, shared});
+  }
+  return faces;
+}
+
 void VolumeFraction::faces_along(int axis, const MacGrid& mac, std::vector<double>& out) const {
   out = mac.face_velocity(axis);
-  if (!m_faces_kept) return;
-  for (const auto& [face, u] : m_kept[axis]) out[face] = u;
-  for (const CutFace& cut : m_cut[axis])
-    out[cut.face] = cut.fraction * out[cut.face] + (1.0 - cut.fraction) * cut.shell_velocity;
+  for (const auto& [face, u] : moved_faces(axis, mac)) out[face] = u;
 }
 
 void VolumeFraction::save(sdk::StateWriter& out, const MacGrid& mac) const {
@@ -243,24 +262,7 @@ void VolumeFraction::restore(sdk::StateReader& in, const MacGrid& mac) {
 void VolumeFraction::gather_line_faces(const MacGrid& mac) {
   for (int a = 0; a < 3; ++a) {
     const Location loc = face_location(a);
-    const auto& u = mac.face_velocity(a);
-    // Face → the value F moves with: the kept projection's, then a cut face's share of it.
-    std::vector<std::pair<std::int64_t, double>> faces;
-    if (m_faces_kept) {
-      faces = m_kept[a];  // in face order
-      for (const CutFace& cut : m_cut[a]) {
-        const auto at = std::lower_bound(
-            faces.begin(), faces.end(), cut.face,
-            [](const auto& entry, std::int64_t face) { return entry.first < face; });
-        const bool kept = at != faces.end() && at->first == cut.face;
-        const double base = kept ? at->second : u[cut.face];
-        const double shared = cut.fraction * base + (1.0 - cut.fraction) * cut.shell_velocity;
-        if (kept)
-          at->second = shared;
-        else
-          faces.insert(at, {cut.face, shared});
-      }
-    }
+    const std::vector<std::pair<std::int64_t, double>> faces = moved_faces(a, mac);
     const Eigen::Vector3i n = m_mac.cells();
     const int b = (a + 1) % 3, e = (a + 2) % 3;
     const std::int64_t lines = std::int64_t(n[b]) * n[e];

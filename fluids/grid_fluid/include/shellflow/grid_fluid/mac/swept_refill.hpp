@@ -36,8 +36,6 @@ class SweptRefill {
   SweptRefillStats run(const ShellGeometry& start, const ShellGeometry& end, NodeFields& fields);
 
   std::span<const std::uint8_t> node_valid_before() const { return m_node_valid_before; }
-  /// The nodes node_valid_before() flags, as a list.
-  std::span<const std::int64_t> swept_nodes() const { return m_invalid_list; }
   /// The cell centres swept (track_cells(); empty otherwise).
   std::span<const std::int64_t> swept_cells() const { return m_cell_list; }
   const std::array<std::vector<std::uint8_t>, 3>& face_swept() const { return m_face_swept; }

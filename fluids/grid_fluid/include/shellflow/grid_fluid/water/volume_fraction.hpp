@@ -112,8 +112,11 @@ class VolumeFraction {
                                    const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 
  private:
-  /// The faces along `axis` that F moves with: `mac`'s, with the kept ones and the cut
-  /// faces' shares over them (a checkpoint's whole columns).
+  /// The faces along `axis` whose velocity F moves with differs from `mac`'s: the kept ones,
+  /// with the cut faces' shares over them, as (face, velocity) in face order.
+  std::vector<std::pair<std::int64_t, double>> moved_faces(int axis, const MacGrid& mac) const;
+  /// The faces along `axis` that F moves with: `mac`'s with moved_faces() over them (a
+  /// checkpoint's whole columns).
   void faces_along(int axis, const MacGrid& mac, std::vector<double>& out) const;
   /// The faces F moves with that differ from `mac`'s, per axis by line of cells
   /// (m_line_faces, m_line_start): what the sweeps read over `mac`'s own.
