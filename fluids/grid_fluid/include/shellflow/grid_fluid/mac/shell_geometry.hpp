@@ -63,6 +63,7 @@ class ShellGeometry {
   double epsilon() const { return m_epsilon; }
   const geometry::WedgeCaster& caster() const { return *m_caster; }
   const geometry::TriangleMesh& mesh(int s) const { return m_shells[s]->mesh; }
+  const geometry::TriangleBvh& bvh(int s) const { return m_shells[s]->bvh; }
 
   /// True when `shells` has the same node positions as this copy (bit for bit).
   bool same_positions(sdk::ShellSet shells) const;
