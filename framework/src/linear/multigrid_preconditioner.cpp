@@ -354,6 +354,64 @@ void zero(float* p, std::int64_t n, bool go) {
   for (std::int64_t i = 0; i < n; ++i) p[i] = 0.0f;
 }
 
+/// The fine level's unknowns beyond the plain grid, from A: its extra parts and links (float
+/// copies), each cell's diagonal beyond its faces (Dirichlet conductance plus links) and,
+/// where A has parts, every unknown's ground (its Dirichlet conductance), as the coarse
+/// levels hold them.
+void copy_parts(const GridLaplacian& A, Level& fine) {
+  const int cells = fine.size();
+  const auto& d = A.dirichlet();
+  const auto start = A.link_start();
+  const auto weight = A.link_weight();
+  fine.extras = A.extras();
+  fine.extra_cell.assign(A.extra_cells().begin(), A.extra_cells().end());
+  fine.cell_extra_start.clear();
+  fine.ground.clear();
+  if (fine.extras > 0 || A.has_links()) {
+    fine.cell_extra_start.assign(cells + 1, 0);
+    for (const int c : fine.extra_cell) ++fine.cell_extra_start[c + 1];
+    for (int c = 0; c < cells; ++c) fine.cell_extra_start[c + 1] += fine.cell_extra_start[c];
+    fine.ground.assign(A.size(), 0.0f);
+    if (!d.empty()) std::copy(d.begin(), d.end(), fine.ground.begin());
+  }
+  // Red–black smoothing needs every link between cells of two colours (face neighbours'
+  // parts): a link within a cell, as the §5.1 solve's cloth would make, needs more colours.
+  const auto to = A.link_to();
+  for (int u = 0; u + 1 < static_cast<int>(start.size()); ++u)
+    for (int l = start[u]; l < start[u + 1]; ++l) {
+      const int v = to[l];
+      const int cu = u < cells ? u : fine.extra_cell[u - cells];
+      const int cv = v < cells ? v : fine.extra_cell[v - cells];
+      if (colour_of_cell(fine, cu) == colour_of_cell(fine, cv))
+        throw Error("MultigridPreconditioner: a link joins unknowns " + std::to_string(u) +
+                    " and " + std::to_string(v) + " of cells " + std::to_string(cu) + " and " +
+                    std::to_string(cv) +
+                    " of one red-black colour; links may only join parts of face neighbours");
+    }
+  fine.link_start.assign(start.begin(), start.end());
+  fine.link_to.assign(A.link_to().begin(), A.link_to().end());
+  fine.link_weight.assign(weight.begin(), weight.end());
+  fine.row_has_links.clear();
+  if (!A.has_links()) {
+    fine.dirichlet.assign(d.begin(), d.end());
+    return;
+  }
+  const Eigen::Vector3i n = fine.cells;
+  fine.row_has_links.assign(std::int64_t(n.y()) * n.z(), 0);
+  fine.dirichlet.assign(cells, 0.0f);
+  for (int c = 0; c < cells; ++c) {
+    float beyond = d.empty() ? 0.0f : static_cast<float>(d[c]);
+    for (int l = start[c]; l < start[c + 1]; ++l) beyond += weight[l];
+    fine.dirichlet[c] = beyond;
+    if (start[c + 1] > start[c]) fine.row_has_links[c / n.x()] = 1;
+  }
+}
+
+/// A level whose unknowns are its cells alone, coupled by faces only: the fused red–black sweep.
+bool plain(const Level& level) {
+  return !level.has_links() && level.extras == 0;
+}
+
 }  // namespace
 
 MultigridPreconditioner::MultigridPreconditioner(MultigridSettings settings,
@@ -409,16 +467,7 @@ void MultigridPreconditioner::compute(const GridLaplacian& A) {
   }
   fine.clamp_for_coarsening = !unit;
   point_at_weights(A);
-  // The fine level is the plain grid: one unknown per cell, no links.
-  fine.dirichlet.assign(A.dirichlet().begin(), A.dirichlet().end());
-  fine.ground.clear();
-  fine.extras = 0;
-  fine.extra_cell.clear();
-  fine.cell_extra_start.clear();
-  fine.link_start.clear();
-  fine.link_to.clear();
-  fine.link_weight.clear();
-  fine.row_has_links.clear();
+  copy_parts(A, fine);
   detail::compute_inverse_diagonal(fine);
   auto& lent = m_scratch->coarsening;
   if (lent.size() < m_levels.size()) lent.resize(m_levels.size());
@@ -500,7 +549,7 @@ void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z
     const Level& level = m_levels[l];
     // From x = 0 the first red half sweep reads no neighbour (x_red = b / A_cc) and the
     // black one reads only red cells: together they write every cell, so no zero fill.
-    if (!level.has_links()) {
+    if (plain(level)) {
       fused_sweep(level, 0, true);
       for (int s = 1; s < nu; ++s) fused_sweep(level, 0, false);
     } else {
@@ -531,7 +580,7 @@ void MultigridPreconditioner::apply(const Eigen::VectorXd& r, Eigen::VectorXd& z
     prolongate_add(m_levels[l + 1], level, parents[l + 1]);
     for (int s = 0; s < m_settings.near_shell_sweeps; ++s) near_shell_sweep(level, false);
     for (int s = 0; s < nu; ++s) {
-      if (!level.has_links()) {
+      if (plain(level)) {
         fused_sweep(level, 1, false);
       } else {
         half_sweep(level, 1);

@@ -12,7 +12,8 @@
 //    by a folded sheet holds three unknowns. The largest part keeps the cell's structured
 //    slot (index = cell), the others are "extra" unknowns stored after the cells, so where
 //    no shell is near a level is the plain 7-point grid of McAdams et al. (see
-//    multigrid_coarsening.hpp for the construction).
+//    multigrid_coarsening.hpp for the construction). The fine level takes the operator's
+//    own extra parts and links where it has them (cut cells, GridLaplacian::set_parts).
 //  - Coarse operators rediscretised from the faces, per part: the coupling between two
 //    parts of neighbouring coarse cells is half the sum of the fine face weights joining
 //    their members, a part's Dirichlet conductance half the sum of its members'. This is
@@ -26,10 +27,11 @@
 //    2x2x2 fine cells, and a corner reached by no path gives its weight to the reachable
 //    corners nearest to it. No correction crosses a shell. Restriction is exactly P^T.
 //  - Smoother: red–black Gauss–Seidel (a part's colour is its cell's: parts only couple to
-//    parts of face neighbours), `smoothing_sweeps` forward (red, black) before the coarse
-//    correction and as many backward (black, red) after; the coarsest grid gets
-//    `coarsest_sweeps` symmetric sweeps (red, black, red) from zero. Unknowns with a zero
-//    diagonal (cells isolated by shells, air cells) are left at 0.
+//    parts of face neighbours; compute() refuses a link between cells of one colour),
+//    `smoothing_sweeps` forward (red, black) before the coarse correction and as many backward
+//    (black, red) after; the coarsest grid gets `coarsest_sweeps` symmetric sweeps (red, black,
+//    red) from zero. Unknowns with a zero diagonal (cells isolated by shells, air cells) are left
+//    at 0.
 //  - A two-way sheet's faces (weight β, neither 0 nor 1, in the §5.1 solve): the
 //    coarsening reads a weak one (below 0.5) as closed and a strong one as 1; the smoother
 //    keeps the true weights.
@@ -99,7 +101,7 @@ class MultigridPreconditioner final : public Preconditioner {
   /// How many times compute() has built a hierarchy (not counting the kept ones).
   std::int64_t builds() const { return m_builds; }
 
-  int size() const override { return m_levels.empty() ? 0 : m_levels[0].cells.prod(); }
+  int size() const override { return m_levels.empty() ? 0 : m_levels[0].unknowns(); }
   /// z = V-cycle(r) from a zero initial guess.
   void apply(const Eigen::VectorXd& r, Eigen::VectorXd& z) const override;
 
