@@ -96,6 +96,7 @@ TEST(CellParts, ALevelPlatePartsEachCellItCrossesByItsOffset) {
       const double expected = part.corners == kLower ? 0.5 + offset : 0.5 - offset;
       EXPECT_NEAR(part.volume, expected, 1e-12) << "h " << h;  // both from exact planes
       EXPECT_EQ(part.holds_centre, (part.corners == kLower) == (offset > 0.0)) << "h " << h;
+      EXPECT_EQ(part.slot, part.holds_centre) << "h " << h;
     }
     for (const int a : {0, 2}) {
       const Location loc = a == 0 ? Location::FaceX : Location::FaceZ;
@@ -251,6 +252,7 @@ TEST(CellParts, AFoldsPocketThinnerThanACellIsNoPart) {
     // Each line is split at the sheets exactly: round-off.
     EXPECT_NEAR(part.volume, part.corners == kLower ? 0.4 : 0.3, 1e-12);
     EXPECT_FALSE(part.holds_centre) << "the centre lies in the pocket";
+    EXPECT_EQ(part.slot, part.corners == kLower) << "no part holds the centre: the largest";
   }
   for (const int a : {0, 2})
     for (const FaceSplit& split : parts.split_faces(a)) {

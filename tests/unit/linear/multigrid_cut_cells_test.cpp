@@ -12,6 +12,7 @@
 #include "poisson_matrix.hpp"
 #include "shellflow/linear/cholmod_solver.hpp"
 #include "shellflow/linear/grid_laplacian.hpp"
+#include "shellflow/linear/laplacian_null_space.hpp"
 #include "shellflow/linear/multigrid_preconditioner.hpp"
 #include "shellflow/linear/pcg_mic0_solver.hpp"
 #include "shellflow/linear/preconditioned_cg.hpp"
@@ -20,11 +21,12 @@
 namespace shellflow::linear {
 namespace {
 
-/// Walls on every side but the top and the bottom, which are open (p = 0 beyond them), so
-/// that both sides of a plate across the box meet a Dirichlet boundary.
-GridLaplacian open_ended_box(int n) {
-  return testing::box_laplacian(
-      {n, n, n}, [n](int axis, int along) { return axis == 1 && (along == 0 || along == n); });
+/// Walls on every side but the top and (unless `closed_bottom`) the bottom, which are open
+/// (p = 0 beyond them), so that both sides of a plate across the box meet a Dirichlet boundary.
+GridLaplacian open_ended_box(int n, bool closed_bottom = false) {
+  return testing::box_laplacian({n, n, n}, [n, closed_bottom](int axis, int along) {
+    return axis == 1 && ((along == 0 && !closed_bottom) || along == n);
+  });
 }
 
 /// The box with a level plate in cell row `row`, `offset` of a cell above its centres, over
@@ -34,8 +36,9 @@ GridLaplacian open_ended_box(int n) {
 /// structured face) and the rest between their upper parts (a link); at the plate's edge the
 /// upper fragment joins the uncut neighbour; the face above a cut cell joins its upper part to
 /// the cell above (a link; the structured face closes).
-GridLaplacian box_with_parts(int n, int row, double offset, int lo, int hi) {
-  GridLaplacian a = open_ended_box(n);
+GridLaplacian box_with_parts(int n, int row, double offset, int lo, int hi,
+                             bool closed_bottom = false) {
+  GridLaplacian a = open_ended_box(n, closed_bottom);
   const auto cut = [&](int i, int k) { return i >= lo && i < hi && k >= lo && k < hi; };
   const int cells = n * n * n;
   std::vector<int> extra_cell;
@@ -161,6 +164,26 @@ TEST(MultigridCutCells, PartsCostAtMostAQuarterMoreIterations) {
       const int cut = iterations_of(a);
       std::printf("%d^3 %s: %d MG-PCG iterations (no plate: %d)\n", n, name.c_str(), cut, plain);
       EXPECT_LE(cut, 1.25 * plain) << name << " at " << n << "^3";
+    }
+  }
+}
+
+// The null space read from the graph: with the bottom closed, the water under a plate across
+// the box is enclosed (its constant is in the null space) and the water above it, the plate's
+// far parts included, reaches the open top; with the plate over the middle only, nothing is.
+TEST(MultigridCutCells, TheNullSpaceIsTheConstantOfTheEnclosedSideOnly) {
+  const int n = 10, row = 4;
+  for (const bool across : {true, false}) {
+    const GridLaplacian a = box_with_parts(n, row, 0.3, across ? 0 : 3, across ? n : 7, true);
+    const ConstantNullSpace null_space = null_space_of(a);
+    EXPECT_EQ(null_space.empty(), !across);
+    Eigen::VectorXd ones = Eigen::VectorXd::Ones(a.size());
+    null_space.project(ones);
+    for (int u = 0; u < a.size(); ++u) {
+      const bool above = u >= n * n * n || (u / n) % n > row;  // an extra, or a cell above
+      const bool enclosed = across && !above;
+      EXPECT_EQ(ones[u], enclosed ? 0.0 : 1.0)
+          << "unknown " << u << (across ? ", plate across" : "");
     }
   }
 }

@@ -282,9 +282,14 @@ CellParts::CellParts(const ShellGeometry& shells, const geometry::ShellBand& ban
         }
     }
     const int centre_group = group_seen_from(shells, centre, corner, groups);
+    const int slot =
+        centre_group >= 0
+            ? centre_group
+            : static_cast<int>(std::max_element(volume.begin(), volume.end()) - volume.begin());
     for (size_t g = 0; g < groups.size(); ++g)
-      found[omp_get_thread_num()].push_back(
-          CellPart{cell, groups[g], volume[g], static_cast<int>(g) == centre_group});
+      found[omp_get_thread_num()].push_back(CellPart{cell, groups[g], volume[g],
+                                                     static_cast<int>(g) == centre_group,
+                                                     static_cast<int>(g) == slot});
   }
   for (const auto& list : found) m_parts.insert(m_parts.end(), list.begin(), list.end());
   std::sort(m_parts.begin(), m_parts.end(), [](const CellPart& p, const CellPart& q) {

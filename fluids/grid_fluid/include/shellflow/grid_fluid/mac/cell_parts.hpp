@@ -29,6 +29,9 @@ struct CellPart {
   double volume = 0.0;
   /// The cell's centre sees a corner of this part (at most one part of a cell).
   bool holds_centre = false;
+  /// The part that keeps the cell's own samples (its φ, F, pressure unknown): the one holding
+  /// the centre, else the largest. The others are its extra parts.
+  bool slot = false;
 };
 
 /// One fragment of an interior face that is not simply open.
@@ -66,6 +69,8 @@ class CellParts {
   std::span<const FaceFragment> fragments_of(int axis, const FaceSplit& split) const {
     return std::span<const FaceFragment>(m_fragments[axis]).subspan(split.first, split.count);
   }
+  /// How many fragments the split faces of family `axis` hold in all.
+  std::size_t fragment_count(int axis) const { return m_fragments[axis].size(); }
   /// The split face `face` of family `axis`, or none when the face is simply open.
   const FaceSplit* split(int axis, std::int64_t face) const;
 
