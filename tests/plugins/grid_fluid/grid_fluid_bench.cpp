@@ -8,19 +8,23 @@
 //   build-*/bin/bench_grid_fluid --peak-memory=128[,sheet][,mic0]   (one measurement)
 // The issue's targets (issue 4) on the 2-core machine: 128^3 step (advection + projection
 // to a relative residual of 1e-5, double precision) < 1.5 s without shells, < 2.0 s with
-// the sheet; peak memory < 1 GB at 128^3.
+// the sheet; peak memory < 1 GB at 128^3. The shells' geometry alone, Fig. 5's face rays
+// against the cut cells' parts: --benchmark_filter=CellParts.
 #include <benchmark/benchmark.h>
 #include <omp.h>
 
 #include <chrono>
-#include <cstdlib>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <string>
 
 #include "bench_peak_memory.hpp"
 #include "shellflow/geometry/mesh_generators.hpp"
+#include "shellflow/geometry/shell_band.hpp"
 #include "shellflow/grid_fluid/grid_fluid_solver.hpp"
+#include "shellflow/grid_fluid/mac/cell_parts.hpp"
 #include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
 #include "shellflow/runtime/schema_validator.hpp"
 
@@ -164,6 +168,52 @@ void BM_LabelRegions(benchmark::State& state) {
   state.counters["regions"] = regions.count();
 }
 BENCHMARK(BM_LabelRegions)->ArgsProduct({{0, 1}, {1, 2}})->Unit(benchmark::kMillisecond);
+
+/// What the shells' geometry costs per step at 128^3 (cut cells, issue #52): the band, Fig. 5's
+/// face rays (cell_face_hits, today's pass) and the cells' parts (CellParts: node edges, parts,
+/// shares, fragments) for the 30K-triangle sheet across the domain, flat (one plane holds the
+/// triangles near each cell: exact shares) or waved (y = 0.6 + 0.02 sin(2π x / 0.15): the shares
+/// from lines split where they cross). Args: resolution, waved (0/1).
+void BM_CellParts(benchmark::State& state) {
+  const int resolution = static_cast<int>(state.range(0));
+  const bool waved = state.range(1) != 0;
+  const grid::UniformGrid grid(Eigen::Vector3d::Zero(), 1.0 / resolution,
+                               Eigen::Vector3i::Constant(resolution));
+  sdk::ShellSurface surface = sheet(kSheetNodes, 0.0);
+  if (waved)
+    for (Eigen::Index i = 0; i < surface.positions.rows(); ++i)
+      surface.positions(i, 1) += 0.02 * std::sin(2.0 * M_PI * surface.positions(i, 0) / 0.15);
+  const std::vector<sdk::ShellSurface> shells{surface};
+  double band_s = 0.0, faces_s = 0.0, parts_s = 0.0;
+  std::size_t parts = 0, splits = 0;
+  geometry::ShellBand band(grid);
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    band.clear();
+    band.add(geometry::TriangleMesh(shells.front()), 2.0 * grid.dx());
+    const grid_fluid::ShellGeometry geometry(shells, 1e-3 * grid.dx());
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(geometry.cell_face_hits(band)[0].data());
+    const auto t2 = std::chrono::steady_clock::now();
+    const grid_fluid::CellParts cut(geometry, band);
+    const auto t3 = std::chrono::steady_clock::now();
+    band_s += std::chrono::duration<double>(t1 - t0).count();
+    faces_s += std::chrono::duration<double>(t2 - t1).count();
+    parts_s += std::chrono::duration<double>(t3 - t2).count();
+    parts = cut.parts().size();
+    splits = cut.split_faces(0).size() + cut.split_faces(1).size() + cut.split_faces(2).size();
+  }
+  const double runs = static_cast<double>(state.iterations());
+  state.counters["band_and_bvh_s"] = band_s / runs;
+  state.counters["face_rays_s"] = faces_s / runs;
+  state.counters["cell_parts_s"] = parts_s / runs;
+  state.counters["parts"] = static_cast<double>(parts);
+  state.counters["split_faces"] = static_cast<double>(splits);
+}
+BENCHMARK(BM_CellParts)
+    ->ArgsProduct({{64, 128}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->Iterations(3);
 
 /// `--peak-memory=N[,sheet][,mic0]`: a plume run (warm-up + 3 steps) in this process, then
 /// its peak resident set (getrusage ru_maxrss) printed as "peak_rss_kb <value>".

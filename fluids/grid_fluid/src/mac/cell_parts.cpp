@@ -20,10 +20,10 @@ using grid::Location;
 // Per node: bit a set when the lattice edge to the next node along axis a touches a wedge,
 // kInWedge when the node itself lies in one.
 constexpr std::uint8_t kInWedge = 8;
-// Lines per axis across a cell (4²) or a face (8) where no single plane holds the shells near
+// Lines per axis across a cell (3²) or a face (4) where no single plane holds the shells near
 // it: each line is split exactly at the shells it crosses (the midpoint rule across the lines).
-constexpr int kCellLines = 4;
-constexpr int kFaceLines = 8;
+constexpr int kCellLines = 3;
+constexpr int kFaceLines = 4;
 
 struct Plane {
   Eigen::Vector3d normal;  ///< unit
