@@ -25,8 +25,8 @@ void apply_boundary_velocities(MacGrid& mac, const DomainBoundary& boundary) {
 }
 
 void FaceNodeTransfer::faces_to_nodes(const MacGrid& mac, NodeFields& nodes,
-                                      const ShellGeometry& shells,
-                                      const geometry::ShellBand* band) const {
+                                      const ShellGeometry& shells, const geometry::ShellBand* band,
+                                      const CutFaces* cut) const {
   // Every node first takes the plain average of the (up to four) faces of each family
   // about it, one node row at a time from whole face rows (contiguous, vectorised: the
   // per-node loop it replaces ran at 2 GB/s, a sixteenth of the machine's bandwidth);
@@ -103,12 +103,12 @@ void FaceNodeTransfer::faces_to_nodes(const MacGrid& mac, NodeFields& nodes,
   const std::span<const std::int64_t> near = band->samples(Location::Node);
   const std::int64_t m = static_cast<std::int64_t>(near.size());
 #pragma omp parallel for schedule(dynamic, 256)
-  for (std::int64_t s = 0; s < m; ++s) faces_to_nodes_with_rays(mac, nodes, shells, near[s]);
+  for (std::int64_t s = 0; s < m; ++s) faces_to_nodes_with_rays(mac, nodes, shells, near[s], cut);
 }
 
 void FaceNodeTransfer::faces_to_nodes_with_rays(const MacGrid& mac, NodeFields& nodes,
-                                                const ShellGeometry& shells,
-                                                std::int64_t node) const {
+                                                const ShellGeometry& shells, std::int64_t node,
+                                                const CutFaces* cut) const {
   const Eigen::Vector3i ijk = m_grid.coordinates(Location::Node, node);
   const Eigen::Vector3d x = m_grid.position(Location::Node, ijk);
   for (int a = 0; a < 3; ++a) {
@@ -129,13 +129,23 @@ void FaceNodeTransfer::faces_to_nodes_with_rays(const MacGrid& mac, NodeFields& 
         if (f[b] < 0 || f[c] < 0 || f[b] >= m_grid.cells()[b] || f[c] >= m_grid.cells()[c])
           continue;
         const Eigen::Vector3d y = m_grid.position(loc, f);
-        if (!shells.visible(x, y)) {
-          object_sum += shells.object_velocity(x, y);
-          ++object_terms;
+        const std::int64_t face = m_grid.index(loc, f);
+        const FaceSplit* split = cut != nullptr ? cut->parts->split(a, face) : nullptr;
+        if (split != nullptr) {  // the fragment holding this corner, if any
+          const FaceFragment* fragment = cut->parts->fragment_holding(a, *split, -db + 2 * -dc);
+          if (fragment != nullptr) {
+            sum += (*cut->velocities)[a][split->first +
+                                         (fragment - cut->parts->fragments_of(a, *split).data())];
+            ++terms;
+            continue;
+          }
+        } else if (shells.visible(x, y)) {
+          sum += u[face];
+          ++terms;
           continue;
         }
-        sum += u[m_grid.index(loc, f)];
-        ++terms;
+        object_sum += shells.object_velocity(x, y);
+        ++object_terms;
       }
     }
     double value = 0.0;
@@ -185,7 +195,7 @@ void FaceNodeTransfer::increments_to_faces(
     MacGrid& mac, const NodeFields& u_star, const std::array<std::vector<double>, 3>& u_n,
     std::span<const std::uint8_t> node_valid_before,
     const std::array<std::vector<std::uint8_t>, 3>& face_swept, const ShellGeometry& shells,
-    const geometry::ShellBand* band, const DomainBoundary& boundary) {
+    const geometry::ShellBand* band, const DomainBoundary& boundary, const CutFaces* cut) {
   for (int a = 0; a < 3; ++a) {
     mark_held_nodes(boundary, a);
     const HeldNodes& held = m_held[a];
@@ -293,6 +303,55 @@ void FaceNodeTransfer::increments_to_faces(
           out[i] +=
               0.25 * ((((s0[i] - n0[i]) + (s1[i] - n1[i])) + (s2[i] - n2[i])) + (s3[i] - n3[i]));
       }
+  }
+  if (cut != nullptr)
+    for (int a = 0; a < 3; ++a)
+      increments_to_fragments(a, mac, u_star, u_n[a], node_valid_before, face_swept[a], *cut);
+}
+
+void FaceNodeTransfer::increments_to_fragments(int axis, MacGrid& mac, const NodeFields& u_star,
+                                               const std::vector<double>& u_n,
+                                               std::span<const std::uint8_t> node_valid_before,
+                                               const std::vector<std::uint8_t>& face_swept,
+                                               const CutFaces& cut) const {
+  // Each fragment as a face: its own corners' mean increment (held source nodes and swept
+  // ones left out), or their mean u* on a swept face; the MAC's face keeps the slots' one.
+  const HeldNodes& held = m_held[axis];
+  const Location loc = face_location(axis);
+  const auto& us = u_star.velocity(axis);
+  auto& u = mac.face_velocity(axis);
+  auto& velocity = (*cut.velocities)[axis];
+  const auto splits = cut.parts->split_faces(axis);
+  const std::int64_t count = static_cast<std::int64_t>(splits.size());
+#pragma omp parallel for schedule(static)
+  for (std::int64_t s = 0; s < count; ++s) {
+    const FaceSplit& split = splits[s];
+    const Eigen::Vector3i ijk = m_grid.coordinates(loc, split.face);
+    const bool swept = !face_swept.empty() && face_swept[split.face] != 0;
+    const bool near_source = held.faces.contains(ijk);
+    const auto fragments = cut.parts->fragments_of(axis, split);
+    for (size_t k = 0; k < fragments.size(); ++k) {
+      double du = 0.0, full = 0.0;
+      int du_terms = 0, full_terms = 0;
+      for (int corner = 0; corner < 4; ++corner) {
+        if (!(fragments[k].corners >> corner & 1u)) continue;
+        const std::int64_t v = m_grid.index(
+            Location::Node, Eigen::Vector3i(ijk + CellParts::face_corner(axis, corner)));
+        full += us[v];
+        ++full_terms;
+        if ((node_valid_before.empty() || node_valid_before[v] != 0) &&
+            !(near_source && held.flag[v] != 0)) {
+          du += us[v] - u_n[v];
+          ++du_terms;
+        }
+      }
+      double& value = velocity[split.first + k];
+      if (!swept && du_terms > 0)
+        value += du / du_terms;
+      else if (full_terms > 0)
+        value = full / full_terms;
+      if (cut.parts->joins_slots(fragments[k])) u[split.face] = value;
+    }
   }
 }
 

@@ -82,16 +82,11 @@ void CutCellSystem::build(const grid::UniformGrid& grid, const CellParts& parts,
     // Fragments: the slots' shared one is the structured face, the others links.
     for (const FaceSplit& split : parts.split_faces(a)) {
       if (kind[split.face] != kSplit) continue;
-      const Eigen::Vector3i ijk = grid.coordinates(loc, split.face);
-      Eigen::Vector3i below = ijk;
-      below[a] -= 1;
-      const int plus_cell = static_cast<int>(grid.index(Location::Cell, ijk));
-      const int minus_cell = static_cast<int>(grid.index(Location::Cell, below));
       for (const FaceFragment& fragment : parts.fragments_of(a, split)) {
         const auto [um, up] = fragment_unknowns(a, split.face, fragment);
         const bool lm = liquid(um), lp = liquid(up);
         if (lm && lp) {
-          if (um == minus_cell && up == plus_cell)
+          if (parts.joins_slots(fragment))
             w[split.face] += conductance(fragment);
           else
             links.push_back({um, up, conductance(fragment)});
@@ -121,12 +116,6 @@ double CutCellSystem::inverse_theta(int liquid, int air) const {
   if (!m_ghost_fluid) return 1.0;
   const double theta = m_phi[liquid] / (m_phi[liquid] - m_phi[air]);
   return 1.0 / std::clamp(theta, FreeSurface::kMinTheta, 1.0);
-}
-
-FragmentVelocities CutCellSystem::fragment_velocities() const {
-  FragmentVelocities v;
-  for (int a = 0; a < 3; ++a) v[a].assign(m_parts->fragment_count(a), 0.0);
-  return v;
 }
 
 void CutCellSystem::outward_flux(const MacGrid& mac, const FragmentVelocities& fragments,
@@ -197,15 +186,11 @@ void CutCellSystem::apply_pressure(const Eigen::VectorXd& scaled, MacGrid& mac,
     for (const FaceSplit& split : m_parts->split_faces(a)) {
       if (kind[split.face] != kSplit) continue;
       const auto list = m_parts->fragments_of(a, split);
-      const Eigen::Vector3i ijk = m_grid.coordinates(loc, split.face);
-      Eigen::Vector3i below = ijk;
-      below[a] -= 1;
       for (size_t k = 0; k < list.size(); ++k) {
         const auto [um, up] = fragment_unknowns(a, split.face, list[k]);
         double& v = fragments[a][split.first + k];
         v -= gradient(um, up);
-        if (um == m_grid.index(Location::Cell, below) && up == m_grid.index(Location::Cell, ijk))
-          u[split.face] = v;
+        if (m_parts->joins_slots(list[k])) u[split.face] = v;
       }
     }
   }

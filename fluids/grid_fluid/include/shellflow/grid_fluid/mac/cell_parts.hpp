@@ -10,6 +10,7 @@
 // shells' plane where one plane holds every triangle near the cell or face (exact), else from
 // samples each given to the part of a corner it sees.
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -51,6 +52,12 @@ struct FaceSplit {
   std::int32_t count = 0;
 };
 
+/// One velocity per fragment of a CellParts' split faces, per axis in CellParts::fragments_of
+/// order (all of an axis' fragments, face after face): the water's normal velocity through
+/// it. A face's fragment that joins its two cells' slots is mirrored in the MAC grid's own
+/// face velocity.
+using FragmentVelocities = std::array<std::vector<double>, 3>;
+
 class CellParts {
  public:
   /// No shells: every cell whole, every face open.
@@ -71,6 +78,24 @@ class CellParts {
   }
   /// How many fragments the split faces of family `axis` hold in all.
   std::size_t fragment_count(int axis) const { return m_fragments[axis].size(); }
+  /// A velocity of 0 for every fragment.
+  FragmentVelocities still_fragments() const {
+    return {std::vector<double>(m_fragments[0].size(), 0.0),
+            std::vector<double>(m_fragments[1].size(), 0.0),
+            std::vector<double>(m_fragments[2].size(), 0.0)};
+  }
+  /// The fragment of a split face that holds the face's corner `corner` (bit s + 2t), or
+  /// none (the corner lies in a wedge, or the face is closed).
+  const FaceFragment* fragment_holding(int axis, const FaceSplit& split, int corner) const {
+    for (const FaceFragment& f : fragments_of(axis, split))
+      if (f.corners >> corner & 1u) return &f;
+    return nullptr;
+  }
+  /// Whether a fragment joins its face's two cells' slot parts (the MAC face's own velocity).
+  bool joins_slots(const FaceFragment& fragment) const {
+    return (fragment.minus < 0 || m_parts[fragment.minus].slot) &&
+           (fragment.plus < 0 || m_parts[fragment.plus].slot);
+  }
   /// The split face `face` of family `axis`, or none when the face is simply open.
   const FaceSplit* split(int axis, std::int64_t face) const;
 

@@ -13,6 +13,9 @@
 // every step (a nozzle's back rim spun up past 1.2x the jet in 0.2 s), so free faces take
 // the increments of their other nodes only.
 // Ray casts happen only for samples in the shell band; elsewhere the plain averages run.
+// With cut cells (issue #52, docs/cut-cells.md §2.8) each fragment of a split face is a face
+// sample of its own: a node reads the fragment that holds it as a corner (no ray: the
+// corners' groups say what it sees), and a fragment takes the increments of its own corners.
 
 #include <array>
 #include <cstdint>
@@ -20,6 +23,7 @@
 #include <vector>
 
 #include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid_fluid/mac/cell_parts.hpp"
 #include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
@@ -27,13 +31,20 @@
 
 namespace shellflow::grid_fluid {
 
+/// The split faces of cut cells and their fragments' velocities, which the transfers read and
+/// write beside the MAC's faces.
+struct CutFaces {
+  const CellParts* parts = nullptr;
+  FragmentVelocities* velocities = nullptr;
+};
+
 class FaceNodeTransfer {
  public:
   explicit FaceNodeTransfer(const grid::UniformGrid& grid) : m_grid(grid) {}
 
   /// Node velocities from the face velocities (§4.2). `band` may be null (no shells).
   void faces_to_nodes(const MacGrid& mac, NodeFields& nodes, const ShellGeometry& shells,
-                      const geometry::ShellBand* band) const;
+                      const geometry::ShellBand* band, const CutFaces* cut = nullptr) const;
 
   /// Adds the averaged increments u* − u^n to the faces (§4.2). `node_valid_before[i]` is
   /// 0 for nodes that were swept this step (their increment is meaningless and is not
@@ -45,7 +56,7 @@ class FaceNodeTransfer {
                            std::span<const std::uint8_t> node_valid_before,
                            const std::array<std::vector<std::uint8_t>, 3>& face_swept,
                            const ShellGeometry& shells, const geometry::ShellBand* band,
-                           const DomainBoundary& boundary);
+                           const DomainBoundary& boundary, const CutFaces* cut = nullptr);
 
  private:
   /// The nodes touching a held source face of one family, flagged, and the box of the
@@ -59,7 +70,13 @@ class FaceNodeTransfer {
 
   /// faces_to_nodes for one node in the shell band: rays decide which faces it sees.
   void faces_to_nodes_with_rays(const MacGrid& mac, NodeFields& nodes, const ShellGeometry& shells,
-                                std::int64_t node) const;
+                                std::int64_t node, const CutFaces* cut) const;
+  /// increments_to_faces for the fragments of the split faces of family `axis`.
+  void increments_to_fragments(int axis, MacGrid& mac, const NodeFields& u_star,
+                               const std::vector<double>& u_n,
+                               std::span<const std::uint8_t> node_valid_before,
+                               const std::vector<std::uint8_t>& face_swept,
+                               const CutFaces& cut) const;
 
   grid::UniformGrid m_grid;
   std::array<HeldNodes, 3> m_held;

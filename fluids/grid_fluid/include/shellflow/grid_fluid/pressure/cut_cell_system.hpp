@@ -27,12 +27,6 @@
 
 namespace shellflow::grid_fluid {
 
-/// One velocity per fragment of a CellParts' split faces, per axis in
-/// CellParts::fragments_of order (all of an axis' fragments, face after face): the water's
-/// normal velocity through it. A face's fragment that joins its two cells' slots is mirrored
-/// in the MAC grid's own face velocity.
-using FragmentVelocities = std::array<std::vector<double>, 3>;
-
 class CutCellSystem {
  public:
   /// The liquid: φ at each cell centre as the cell's slot part sees it (φ <= 0: liquid), and
@@ -55,8 +49,6 @@ class CutCellSystem {
   int unknown_of_part(int part) const { return m_part_unknown[part]; }
   /// Whether unknown u is liquid.
   bool liquid(int u) const { return m_phi[u] <= 0.0; }
-  /// Zero-sized fragment velocities for these parts.
-  FragmentVelocities fragment_velocities() const;
 
   /// Per unknown, the flow out through its faces and fragments, Σ β u·n [m/s] (air: 0).
   void outward_flux(const MacGrid& mac, const FragmentVelocities& fragments,
