@@ -13,9 +13,6 @@
 #include "grid_fluid_test_support.hpp"
 #include "shellflow/geometry/shell_band.hpp"
 #include "shellflow/grid_fluid/pressure/cut_cell_system.hpp"
-#include "shellflow/linear/laplacian_null_space.hpp"
-#include "shellflow/linear/multigrid_preconditioner.hpp"
-#include "shellflow/linear/preconditioned_cg.hpp"
 
 namespace shellflow::grid_fluid {
 namespace {
@@ -40,24 +37,6 @@ Scene scene_with(std::vector<sdk::ShellSurface> shells) {
   for (const auto& shell : s.shells) band.add(geometry::TriangleMesh(shell), 2.0 * kDx);
   s.parts = CellParts(*s.geometry, band);
   return s;
-}
-
-/// Solves A p' = −flux (MG-PCG to 1e-13, each enclosed component's constant projected out),
-/// applies the pressure, and returns p'.
-Eigen::VectorXd project(const CutCellSystem& system, MacGrid& mac, FragmentVelocities& fragments) {
-  Eigen::VectorXd flux;
-  system.outward_flux(mac, fragments, flux);
-  Eigen::VectorXd b = -flux;
-  const linear::ConstantNullSpace null_space = linear::null_space_of(system.laplacian());
-  null_space.project(b);
-  linear::MultigridPreconditioner mg;
-  mg.compute(system.laplacian());
-  Eigen::VectorXd p = Eigen::VectorXd::Zero(b.size());
-  const auto stats =
-      linear::preconditioned_cg(system.laplacian(), mg, b, p, 1e-13, 500, &null_space);
-  EXPECT_TRUE(stats.converged) << stats.relative_residual;
-  system.apply_pressure(p, mac, fragments);
-  return p;
 }
 
 // Water fills the tank below a level plate across it and stands 2.7 cells deep on it. One
@@ -100,7 +79,7 @@ TEST(CutCellSystem, StillWaterOnBothSidesOfAPlateStaysStillWithEachSidesPressure
       v[f] = j == 0 || j == kGrid.cells().y() ? 0.0 : -kGravity * kDt;  // walls stay shut
     }
     std::fill(fragments[1].begin(), fragments[1].end(), -kGravity * kDt);
-    const Eigen::VectorXd p = project(system, mac, fragments);
+    const Eigen::VectorXd p = test::project_on_parts(system, mac, fragments);
 
     // Still where water is.
     const auto wet = [&](int u) { return u >= 0 && system.liquid(u); };
@@ -173,7 +152,7 @@ TEST(CutCellSystem, AProjectedFlowLeavesEveryPartDivergenceFreeAndGainsNoEnergy)
     return 0.5 * e;
   };
   const double before = energy();
-  project(system, mac, fragments);
+  test::project_on_parts(system, mac, fragments);
   Eigen::VectorXd flux;
   system.outward_flux(mac, fragments, flux);
   EXPECT_LE(flux.lpNorm<Eigen::Infinity>(), 1e-10);

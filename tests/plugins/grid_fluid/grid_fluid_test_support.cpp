@@ -1,5 +1,9 @@
 #include "grid_fluid_test_support.hpp"
 
+#include "shellflow/linear/laplacian_null_space.hpp"
+#include "shellflow/linear/multigrid_preconditioner.hpp"
+#include "shellflow/linear/preconditioned_cg.hpp"
+
 #include <Eigen/Geometry>
 #include <memory>
 
@@ -18,6 +22,23 @@ sdk::ShellSurface make_plate(const Eigen::Vector3d& center, const Eigen::Vector3
   s.triangles = std::make_shared<const sdk::Triangles>(mesh.triangles);
   s.surface_density = Eigen::VectorXd::Ones(mesh.triangles.rows());
   return s;
+}
+
+Eigen::VectorXd project_on_parts(const CutCellSystem& system, MacGrid& mac,
+                                 FragmentVelocities& fragments) {
+  Eigen::VectorXd flux;
+  system.outward_flux(mac, fragments, flux);
+  Eigen::VectorXd b = -flux;
+  const linear::ConstantNullSpace null_space = linear::null_space_of(system.laplacian());
+  null_space.project(b);
+  linear::MultigridPreconditioner mg;
+  mg.compute(system.laplacian());
+  Eigen::VectorXd p = Eigen::VectorXd::Zero(b.size());
+  const auto stats =
+      linear::preconditioned_cg(system.laplacian(), mg, b, p, 1e-13, 500, &null_space);
+  EXPECT_TRUE(stats.converged) << stats.relative_residual;
+  system.apply_pressure(p, mac, fragments);
+  return p;
 }
 
 }  // namespace shellflow::grid_fluid::test

@@ -14,6 +14,7 @@
 
 #include "shellflow/geometry/mesh_generators.hpp"
 #include "shellflow/grid_fluid/grid_fluid_solver.hpp"
+#include "shellflow/grid_fluid/pressure/cut_cell_system.hpp"
 #include "shellflow/grid_fluid/water/liquid.hpp"
 #include "shellflow/runtime/run_driver.hpp"
 #include "shellflow/runtime/scene.hpp"
@@ -73,6 +74,12 @@ inline std::string validate_refusal(nlohmann::json fluid) {
   ADD_FAILURE() << "the scene was accepted: " << scene.dump();
   return "";
 }
+
+/// One projection on cut cells: solves A p' = −(the parts' outward flux) by MG-PCG to a
+/// relative residual of 1e-13 (each enclosed component's constant projected out), applies
+/// it to the faces and fragments, and returns p' per unknown.
+Eigen::VectorXd project_on_parts(const CutCellSystem& system, MacGrid& mac,
+                                 FragmentVelocities& fragments);
 
 /// A square plate of side `size` centred at `center` with unit normal `normal`.
 /// (Defined in grid_fluid_test_support.cpp: Eigen's FromTwoVectors costs each file that

@@ -12,11 +12,6 @@ using grid::Location;
 namespace {
 constexpr std::uint8_t kClosed = 1, kSplit = 2;
 
-/// A fragment's aperture as the operator holds it (GridLaplacian's weights are floats): the
-/// fluxes read the same number, so the solve's residual is the parts' divergence.
-float conductance(const FaceFragment& fragment) {
-  return static_cast<float>(fragment.aperture);
-}
 }  // namespace
 
 void CutCellSystem::build(const grid::UniformGrid& grid, const CellParts& parts,
@@ -87,9 +82,9 @@ void CutCellSystem::build(const grid::UniformGrid& grid, const CellParts& parts,
         const bool lm = liquid(um), lp = liquid(up);
         if (lm && lp) {
           if (parts.joins_slots(fragment))
-            w[split.face] += conductance(fragment);
+            w[split.face] += static_cast<float>(conductance(fragment));
           else
-            links.push_back({um, up, conductance(fragment)});
+            links.push_back({um, up, static_cast<float>(conductance(fragment))});
         } else if (lm != lp) {
           const int wet = lm ? um : up, dry = lm ? up : um;
           dirichlet[wet] += conductance(fragment) * inverse_theta(wet, dry);

@@ -151,8 +151,13 @@ double VolumeFraction::fill(const std::function<double(const Eigen::Vector3d&)>&
 }
 
 double VolumeFraction::volume() const {
-  const double sum = ordered_sum(static_cast<std::int64_t>(m_fraction.size()),
-                                 [&](std::int64_t c) { return m_fraction[c]; });
+  double sum = ordered_sum(static_cast<std::int64_t>(m_fraction.size()),
+                           [&](std::int64_t c) { return m_fraction[c]; });
+  if (m_parts != nullptr) {
+    const auto parts = m_parts->parts();
+    sum += ordered_sum(static_cast<std::int64_t>(parts.size()),
+                       [&](std::int64_t p) { return parts[p].slot ? 0.0 : m_part_fraction[p]; });
+  }
   const double dx = m_mac.dx();
   return sum * dx * dx * dx;
 }
@@ -294,6 +299,9 @@ void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, doubl
   double fastest = max_speed;  // the MAC's faces, and those F moves with instead
   for (const auto& faces : m_line_faces)
     for (const LineFace& face : faces) fastest = std::max(fastest, std::abs(face.u));
+  if (m_parts != nullptr)
+    for (const auto& fragments : *m_fragment_velocity)
+      for (const double w : fragments) fastest = std::max(fastest, std::abs(w));
   const int parts =
       std::clamp(static_cast<int>(std::ceil(fastest * dt / m_mac.dx() / 0.5)), 1, kMostParts);
   // The dilation term's cells: the liquid cells of φ^n, whose faces the projection made
@@ -333,6 +341,22 @@ void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, doubl
     m_wet.lo = m_wet.lo.cwiseMin(wet_per_slab[k].lo);
     m_wet.hi = m_wet.hi.cwiseMax(wet_per_slab[k].hi);
     for (const std::int64_t c : mixed_per_slab[k]) add_plane(c);
+  }
+  // Cut cells: each part's fill at the step's start (its dilation weight); a part with water
+  // is wet.
+  m_part_fill.clear();
+  if (m_parts != nullptr) {
+    const auto all = m_parts->parts();
+    m_part_fill.resize(all.size());
+    for (size_t p = 0; p < all.size(); ++p) {
+      const double water = all[p].slot ? m_fraction[all[p].cell] : m_part_fraction[p];
+      m_part_fill[p] = all[p].volume > 0.0 ? std::clamp(water / all[p].volume, 0.0, 1.0) : 0.0;
+      if (water > kFullOrEmpty) {
+        const Eigen::Vector3i c = m_mac.coordinates(Location::Cell, all[p].cell);
+        m_wet.lo = m_wet.lo.cwiseMin(c);
+        m_wet.hi = m_wet.hi.cwiseMax(c);
+      }
+    }
   }
   double clipped = 0.0, outflow = 0.0, dilated = 0.0, divergence = 0.0;
   for (int part = 0; part < parts && !m_wet.empty(); ++part) {
@@ -400,6 +424,10 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
     const std::int64_t face_stride = m_mac.index(loc, Eigen::Vector3i::Unit(a));
     std::vector<int> first(lines, n[a]), last(lines, -1);  // each line's span changed
     std::vector<std::vector<std::int64_t>> cut_now(lines);
+    // Split faces move water fragment by fragment, from the pass's starting F.
+    FragmentPass fragment_pass;
+    if (m_parts != nullptr) fragment_pass = gather_fragments(a, dt);
+    const std::uint8_t* split = m_parts != nullptr ? m_split[a].data() : nullptr;
     const auto& line_start = m_line_start[a];
     const auto& line_faces = m_line_faces[a];
 #pragma omp parallel
@@ -433,8 +461,17 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
           for (std::int64_t k = line_start[line]; k < line_start[line + 1]; ++k)
             if (line_faces[k].along >= lo && line_faces[k].along <= hi + 1)
               u[line_faces[k].along] = line_faces[k].u;
+          // A split face: its fragments' net flux for the whole cells' dilation; its water is
+          // the fragments' (gather_fragments).
+          const auto split_at = [&](int i) {
+            return split != nullptr && split[face_base + i * face_stride] != 0;
+          };
+          if (split != nullptr)
+            for (int i = lo; i <= hi + 1; ++i)
+              if (split_at(i)) u[i] = split_face_flux(a, face_base + i * face_stride);
           for (int i = lo; i <= hi + 1; ++i) {
             carried[i] = 0.0;
+            if (split_at(i)) continue;
             // A side's face carries water out where it is open and its flow leaves; none
             // comes in.
             if (i == 0 && !(m_open[2 * a] && u[i] < 0.0)) continue;
@@ -466,6 +503,7 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
                     (m_open[2 * a + 1] && hi == n[a] - 1 ? carried[n[a]] : 0.0);
           for (int i = lo; i <= hi; ++i) {
             const std::int64_t c = cell_at(i);
+            if (split != nullptr && m_cut_cell[c] != 0) continue;  // its parts': the fragments'
             double value = m_fraction[c] + carried[i] - carried[i + 1];
             if (const double weight = dilating(c); weight != 0.0) {
               const double dilation = weight * (u[i + 1] - u[i]) * dt / dx;
@@ -494,6 +532,13 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
       m_wet.lo[a] = std::min(m_wet.lo[a], first[line]);
       m_wet.hi[a] = std::max(m_wet.hi[a], last[line]);
     }
+    if (m_parts != nullptr) {
+      std::vector<std::int64_t> cut_by_fragments;
+      clipped += apply_fragments(fragment_pass, cut_by_fragments);
+      for (const std::int64_t c : cut_by_fragments)
+        if (m_plane_of[c] < 0) add_plane(c);
+      divergence += fragment_pass.dilation;
+    }
     clipped += ordered_sum(lines, [&](std::int64_t l) { return m_line_sums[4 * l]; });
     dilated += ordered_sum(lines, [&](std::int64_t l) { return m_line_sums[4 * l + 1]; });
     divergence += ordered_sum(lines, [&](std::int64_t l) { return m_line_sums[4 * l + 2]; });
@@ -504,6 +549,146 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
   m_stats.outflow = outflow * cell;
   m_stats.dilated = dilated * cell;
   m_stats.divergence = divergence * cell;
+}
+
+void VolumeFraction::set_cut_cells(const CellParts* parts, const FragmentVelocities* velocities) {
+  m_parts = parts;
+  m_fragment_velocity = velocities;
+  m_part_fraction.clear();
+  m_cut_cell.clear();
+  for (auto& split : m_split) split.clear();
+  if (parts == nullptr) return;
+  m_part_fraction.assign(parts->parts().size(), 0.0);
+  m_cut_cell.assign(m_mac.size(Location::Cell), 0);
+  for (const CellPart& part : parts->parts()) m_cut_cell[part.cell] = 1;
+  for (int a = 0; a < 3; ++a) {
+    m_split[a].assign(m_mac.size(face_location(a)), 0);
+    for (const FaceSplit& split : parts->split_faces(a)) m_split[a][split.face] = 1;
+  }
+}
+
+double VolumeFraction::slab_water(std::int64_t donor, int axis, bool positive, double s) const {
+  const double fraction = m_fraction[donor];
+  if (fraction <= kFullOrEmpty) return 0.0;
+  if (fraction >= 1.0 - kFullOrEmpty) return s * fraction;
+  // The donor's slab next to the face, below its plane.
+  Eigen::Vector3d box_lo = Eigen::Vector3d::Constant(-0.5), box_hi = Eigen::Vector3d::Constant(0.5);
+  if (positive)
+    box_lo[axis] = 0.5 - s;
+  else
+    box_hi[axis] = -0.5 + s;
+  const Plane& plane = m_planes[m_plane_of[donor]];
+  return s * box_fraction_below(plane.normal, plane.height, box_lo, box_hi);
+}
+
+double VolumeFraction::split_face_flux(int axis, std::int64_t face) const {
+  const FaceSplit* split = m_parts->split(axis, face);
+  double flux = 0.0;
+  const auto fragments = m_parts->fragments_of(axis, *split);
+  for (size_t k = 0; k < fragments.size(); ++k)
+    flux += conductance(fragments[k]) * (*m_fragment_velocity)[axis][split->first + k];
+  return flux;
+}
+
+VolumeFraction::FragmentPass VolumeFraction::gather_fragments(int axis, double dt) const {
+  const auto parts = m_parts->parts();
+  const Location loc = face_location(axis);
+  const double dx = m_mac.dx();
+  FragmentPass pass;
+  pass.part_delta.assign(parts.size(), 0.0);
+  const auto water_of = [&](int p) {
+    return parts[p].slot ? m_fraction[parts[p].cell] : m_part_fraction[p];
+  };
+  // Each fragment's water, from its upwind part at its fill (a whole cell: its PLIC slab).
+  struct Flow {
+    int from_part, to_part;  // −1: a whole cell
+    std::int64_t from_cell, to_cell;
+    double water;
+  };
+  std::vector<Flow> flows;
+  std::vector<double> given(parts.size(), 0.0), outward(parts.size(), 0.0);
+  for (const FaceSplit& split : m_parts->split_faces(axis)) {
+    const Eigen::Vector3i ijk = m_mac.coordinates(loc, split.face);
+    Eigen::Vector3i below = ijk;
+    below[axis] -= 1;
+    const std::int64_t plus_cell = m_mac.index(Location::Cell, ijk);
+    const std::int64_t minus_cell = m_mac.index(Location::Cell, below);
+    const auto fragments = m_parts->fragments_of(axis, split);
+    for (size_t k = 0; k < fragments.size(); ++k) {
+      const FaceFragment& fragment = fragments[k];
+      const double w = (*m_fragment_velocity)[axis][split.first + k];
+      const double flux = conductance(fragment) * w;
+      if (fragment.minus >= 0) outward[fragment.minus] += flux;
+      if (fragment.plus >= 0) outward[fragment.plus] -= flux;
+      const double s = std::min(std::abs(w) * dt / dx, 1.0);
+      if (s == 0.0) continue;
+      const bool positive = w > 0.0;
+      Flow flow{positive ? fragment.minus : fragment.plus,
+                positive ? fragment.plus : fragment.minus, positive ? minus_cell : plus_cell,
+                positive ? plus_cell : minus_cell, 0.0};
+      if (flow.from_part >= 0) {
+        const double volume = parts[flow.from_part].volume;
+        const double fill =
+            volume > 0.0 ? std::clamp(water_of(flow.from_part) / volume, 0.0, 1.0) : 0.0;
+        flow.water = s * conductance(fragment) * fill;
+        given[flow.from_part] += flow.water;
+      } else {
+        flow.water = conductance(fragment) * slab_water(flow.from_cell, axis, positive, s);
+      }
+      if (flow.water > 0.0) flows.push_back(flow);
+    }
+  }
+  // No part gives more than it holds.
+  std::vector<double> scale(parts.size(), 1.0);
+  for (size_t p = 0; p < parts.size(); ++p)
+    if (given[p] > std::max(water_of(static_cast<int>(p)), 0.0))
+      scale[p] = std::max(water_of(static_cast<int>(p)), 0.0) / given[p];
+  for (const Flow& flow : flows) {
+    const double water = flow.from_part >= 0 ? flow.water * scale[flow.from_part] : flow.water;
+    if (flow.from_part >= 0)
+      pass.part_delta[flow.from_part] -= water;
+    else
+      pass.whole_delta.push_back({flow.from_cell, -water});
+    if (flow.to_part >= 0)
+      pass.part_delta[flow.to_part] += water;
+    else
+      pass.whole_delta.push_back({flow.to_cell, water});
+  }
+  // Each part's dilation: its fill at the step's start times its fragments' outward flux.
+  for (size_t p = 0; p < parts.size(); ++p) {
+    const double dilation = m_part_fill[p] * outward[p] * dt / dx;
+    pass.part_delta[p] += dilation;
+    pass.dilation += dilation;
+  }
+  return pass;
+}
+
+double VolumeFraction::apply_fragments(const FragmentPass& pass,
+                                       std::vector<std::int64_t>& cut_now) {
+  const auto parts = m_parts->parts();
+  double clipped = 0.0;
+  const auto grow = [&](std::int64_t cell) {
+    const Eigen::Vector3i c = m_mac.coordinates(Location::Cell, cell);
+    m_wet.lo = m_wet.lo.cwiseMin(c);
+    m_wet.hi = m_wet.hi.cwiseMax(c);
+  };
+  const auto mixed = [](double f) { return f > kFullOrEmpty && f < 1.0 - kFullOrEmpty; };
+  for (size_t p = 0; p < parts.size(); ++p) {
+    if (pass.part_delta[p] == 0.0) continue;
+    double& water = parts[p].slot ? m_fraction[parts[p].cell] : m_part_fraction[p];
+    const double value = water + pass.part_delta[p];
+    water = std::max(value, 0.0);
+    clipped += water - value;
+    grow(parts[p].cell);
+  }
+  for (const auto& [cell, delta] : pass.whole_delta) {
+    const double value = m_fraction[cell] + delta;
+    m_fraction[cell] = std::max(value, 0.0);
+    clipped += m_fraction[cell] - value;
+    grow(cell);
+    if (m_plane_of[cell] < 0 && mixed(m_fraction[cell])) cut_now.push_back(cell);
+  }
+  return clipped;
 }
 
 void VolumeFraction::fit(const LevelSet& level_set, std::vector<double>& scratch) {

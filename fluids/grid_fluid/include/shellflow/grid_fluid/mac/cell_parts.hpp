@@ -45,6 +45,13 @@ struct FaceFragment {
   std::int32_t minus = -1, plus = -1;
 };
 
+/// A fragment's aperture as the pressure operator holds it (GridLaplacian's weights are
+/// floats): every flux through a fragment reads this number, so that the parts of a projected
+/// flow balance to round-off.
+inline double conductance(const FaceFragment& fragment) {
+  return static_cast<float>(fragment.aperture);
+}
+
 /// An interior face that shells touch: its fragments (none: the face is closed).
 struct FaceSplit {
   std::int64_t face = -1;  ///< flat index in its family (UniformGrid layout)

@@ -10,6 +10,12 @@
 // pressure sees keeps the water F holds. A layer thinner than half a cell on a wall lives in
 // F where φ cannot show it (its cell turns air), and comes back to φ as it gathers.
 // docs/water-cell-centres.md §5 says why.
+// With cut cells (issue #52, docs/cut-cells.md §2.7) each part of a cell the shells cut holds
+// its own water: the slot part's in the cell's F, the extras' beside it. A split face moves
+// water fragment by fragment (β u), from the upwind part at its mean fill (a thin layer along
+// a shell; a whole donor cell gives its PLIC slab), each part's dilation term weighs its
+// fragments' flux with its fill at the step's start, and no part gives more than it holds.
+// Nothing crosses a shell: it has no fragment.
 
 #include <array>
 #include <cstdint>
@@ -17,6 +23,7 @@
 #include <span>
 #include <vector>
 
+#include "shellflow/grid_fluid/mac/cell_parts.hpp"
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
 #include "shellflow/sdk/state_buffer.hpp"
@@ -50,8 +57,17 @@ class VolumeFraction {
   void set_open(const std::array<bool, 6>& open) { m_open = open; }
   const std::vector<double>& values() const { return m_fraction; }
   std::vector<double>& values() { return m_fraction; }
-  /// Σ F Δx³ [m^3].
+  /// Σ F Δx³ [m^3] (the extra parts' water included).
   double volume() const;
+
+  /// Cut cells: the parts of the cells shells cut and their fragments' velocities (which F
+  /// moves with through split faces), both kept by the caller while set; null: none. The
+  /// extras' water starts at none.
+  void set_cut_cells(const CellParts* parts, const FragmentVelocities* velocities);
+  /// F of each part of CellParts::parts() that is not its cell's slot (the slots' water is
+  /// values()'); the slots' entries are unused.
+  const std::vector<double>& part_values() const { return m_part_fraction; }
+  std::vector<double>& part_values() { return m_part_fraction; }
   const VolumeFractionStats& stats() const { return m_stats; }
 
   /// Before the velocity extrapolation: the projection's values of the faces next to a
@@ -128,6 +144,24 @@ class VolumeFraction {
   /// the emitters whose held faces the faces carry (their dilation is added water).
   void sweeps(const MacGrid& mac, const LevelSet& level_set, std::span<const std::uint8_t> cut,
               const std::vector<grid::IndexBox>& sources, double dt, std::int64_t order);
+  /// Water [Δx³] a donor carries through a face of its along `axis` (`positive`: the donor
+  /// lies on the face's minus side) in a slab of width s cells: its PLIC plane's share.
+  double slab_water(std::int64_t donor, int axis, bool positive, double s) const;
+  /// The fragments' share of a pass: per part and per whole cell beside them, the change.
+  struct FragmentPass {
+    std::vector<double> part_delta;
+    std::vector<std::pair<std::int64_t, double>> whole_delta;
+    double dilation = 0.0;  ///< made in the parts by their dilation terms [Δx³]
+  };
+  /// The fragments' part of a pass along `axis`, from the pass's starting F: the water each
+  /// split face's fragments carry between parts (no part gives more than it holds) and each
+  /// part's dilation.
+  FragmentPass gather_fragments(int axis, double dt) const;
+  /// Applies a pass's fragment changes after the lines' sweep; the wet box and the planes
+  /// grow to what changed. Returns the water clipped at F = 0 [Δx³].
+  double apply_fragments(const FragmentPass& pass, std::vector<std::int64_t>& cut_now);
+  /// The fragments' net flux Σ β u through split face `face` of family `axis`.
+  double split_face_flux(int axis, std::int64_t face) const;
   /// The unit normal (towards the air) at cell c: φ's gradient by central differences
   /// (one-sided at the walls), or −∇F where φ is flat there.
   Eigen::Vector3d normal_at(const LevelSet& level_set, const Eigen::Vector3i& c) const;
@@ -168,6 +202,15 @@ class VolumeFraction {
   std::array<std::vector<std::int64_t>, 3> m_line_start;  ///< per axis, each line's first (+ end)
   std::int64_t m_steps = 0;
   std::array<bool, 6> m_open{};
+  // Cut cells (set_cut_cells): the parts, their fragments' velocities, the extras' water,
+  // per face whether it is split, per cell whether it is cut, each part's fill at the step's
+  // start (its dilation weight).
+  const CellParts* m_parts = nullptr;
+  const FragmentVelocities* m_fragment_velocity = nullptr;
+  std::vector<double> m_part_fraction;
+  std::array<std::vector<std::uint8_t>, 3> m_split;
+  std::vector<std::uint8_t> m_cut_cell;
+  std::vector<double> m_part_fill;
   VolumeFractionStats m_stats;
 };
 
