@@ -93,6 +93,7 @@ GridFluid::GridFluid(const nlohmann::json& params, const sdk::Context& context)
                         "/water/sources");
     m_liquid = std::make_unique<Liquid>(params.at("water"), m_mac.grid(), m_buoyancy.up,
                                         context.fps, m_boundary, context.gravity);
+    if (m_liquid->cut_cells()) m_cut_water = std::make_unique<CutCellWater>(m_mac.grid());
     m_refill.track_cells();  // φ's samples the shells sweep
   }
   for (size_t i = 0; i < sources.size(); ++i) {
@@ -182,7 +183,8 @@ void GridFluid::build_band(sdk::ShellSet shells_n, sdk::ShellSet shells_np1, dou
 void GridFluid::refresh_nodes(sdk::ShellSet shells) {
   ensure_geometry(m_geometry_n, shells);
   build_band(shells, shells, 2.0 * m_mac.dx());
-  m_transfer.faces_to_nodes(m_mac, m_nodes, *m_geometry_n, m_band_used ? &m_band : nullptr);
+  m_transfer.faces_to_nodes(m_mac, m_nodes, *m_geometry_n, m_band_used ? &m_band : nullptr,
+                            cut_faces());
   m_nodes_current = true;
 }
 
@@ -259,6 +261,8 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
     m_liquid->settle_among_shells(geom_n, band);
     m_liquid->measure_initial_volume(&geom_n, band);
   }
+  if (m_cut_water && shells)
+    m_cut_water->update(shells_n, geom_n, m_mac, m_liquid->level_set(), m_liquid->fraction());
 
   if (m_prescribed) {
     // The field at the middle of the step carries φ and the particles; nothing else moves.
@@ -266,7 +270,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
     m_liquid->advect(t, m_mac, dt, m_mac.max_face_speed(), geom_n, band);
   } else {
     // 1. §4.2 faces → nodes (already done at the end of the last projection, same shells).
-    if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band);
+    if (!m_nodes_current) m_transfer.faces_to_nodes(m_mac, m_nodes, geom_n, band, cut_faces());
 
     // 2. §4.1 semi-Lagrangian advection with visibility (water: φ along the same rays).
     m_advector.advect(
@@ -300,7 +304,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   m_transfer.increments_to_faces(
       m_mac, m_nodes, m_next.velocities(),
       shells ? m_refill.node_valid_before() : std::span<const std::uint8_t>(),
-      shells ? m_refill.face_swept() : no_faces, geom_np1, band, m_boundary);
+      shells ? m_refill.face_swept() : no_faces, geom_np1, band, m_boundary, cut_faces());
   apply_boundary_velocities(m_mac, m_boundary);
   m_nodes_current = false;
 }
@@ -375,6 +379,10 @@ void GridFluid::coupling_forces(double dt, sdk::ShellSet shells,
   }
   // Skip what the scene does not need: no second solve (a prescribed flow pushes nothing).
   if (!two_way || m_prescribed) return;
+  if (m_cut_water)
+    throw Error(
+        "/fluid/water/cut_cells: a shell receives the fluid's forces (two-way), which cut cells "
+        "do not couple yet (docs/cut-cells.md, C4). Set /fluid/water/cut_cells to false.");
   // Same positions as advect's n+1 shells: its band (margin >= 2Δx) still covers them.
   if (ensure_geometry(m_geometry_np1, shells) || !m_band_used)
     build_band(shells, shells, 2.0 * m_mac.dx());
@@ -417,15 +425,26 @@ void GridFluid::project_against(std::unique_ptr<ShellGeometry>& geometry, double
   const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
   const ShellGeometry& geom = have_shells ? *geometry : none;
   const auto start = std::chrono::steady_clock::now();
-  m_stats.projection = m_projection.project(m_mac, dt, m_boundary, geom, band,
-                                            m_liquid ? &m_liquid->surface() : nullptr);
+  const bool parts = m_cut_water && have_shells;
+  if (parts) {
+    m_cut_water->update(shells, geom, m_mac, m_liquid->level_set(), m_liquid->fraction());
+    const FreeSurface& surface = m_liquid->surface();
+    const auto& part_phi = m_cut_water->part_phi(geom, surface.cell_phi, m_liquid->fraction());
+    m_stats.projection = m_projection.project_parts(
+        m_mac, m_cut_water->fragments(), dt, m_boundary, geom, m_cut_water->parts(),
+        {surface.cell_phi, part_phi, surface.ghost_fluid});
+  } else {
+    m_stats.projection = m_projection.project(m_mac, dt, m_boundary, geom, band,
+                                              m_liquid ? &m_liquid->surface() : nullptr);
+  }
   m_t_pressure = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   // §4.4: velocities across the surface, against the effective velocity of the shells.
   if (m_liquid) m_liquid->extrapolate(m_mac, m_projection, geom, band);
+  if (parts) m_cut_water->extrapolate_fragments(m_mac, m_liquid->level_set().phi());
 
   // Nodes for writers and for the next step (§4.2), against the shells' own velocities.
   if (have_shells) geometry->set_velocities(velocities_of(shells));
-  m_transfer.faces_to_nodes(m_mac, m_nodes, geom, band);
+  m_transfer.faces_to_nodes(m_mac, m_nodes, geom, band, cut_faces());
   m_nodes_current = true;
 }
 

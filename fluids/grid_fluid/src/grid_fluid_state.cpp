@@ -9,6 +9,11 @@
 namespace shellflow::grid_fluid {
 
 void GridFluid::save(sdk::StateWriter& out) const {
+  if (m_cut_water)
+    throw Error(
+        "/fluid/water/cut_cells: the parts' water and velocities are not saved in checkpoints "
+        "yet (docs/cut-cells.md, C5); run with --checkpoint-every 0, or set "
+        "/fluid/water/cut_cells to false");
   // Any contiguous array of doubles (std::vector, Eigen::VectorXd), as a column.
   const auto write_vector = [&](const auto& v) {
     out.write_column(v.data(), static_cast<std::int64_t>(v.size()));

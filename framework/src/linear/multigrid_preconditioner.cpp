@@ -389,6 +389,7 @@ void copy_parts(const GridLaplacian& A, Level& fine) {
                     " of one red-black colour; links may only join parts of face neighbours");
     }
   fine.link_start.assign(start.begin(), start.end());
+  if (fine.extras > 0 && fine.link_start.empty()) fine.link_start.assign(A.size() + 1, 0);
   fine.link_to.assign(A.link_to().begin(), A.link_to().end());
   fine.link_weight.assign(weight.begin(), weight.end());
   fine.row_has_links.clear();

@@ -175,10 +175,11 @@ class TranslatingShell final : public sdk::SolidSolver {
 /// The water block `water` on one of the water cores the tests compare: "cells" (the level
 /// set alone, /water/volume_fraction false) or "fraction" (with it, the default).
 inline nlohmann::json water_core(const std::string& core, nlohmann::json water) {
-  if (core != "cells" && core != "fraction")
-    throw std::invalid_argument("test::water_core: \"cells\" or \"fraction\", not \"" + core +
-                                "\"");
-  water["volume_fraction"] = core == "fraction";
+  if (core != "cells" && core != "fraction" && core != "cut_cells")
+    throw std::invalid_argument(
+        "test::water_core: \"cells\", \"fraction\" or \"cut_cells\", not \"" + core + "\"");
+  water["volume_fraction"] = core != "cells";
+  if (core == "cut_cells") water["cut_cells"] = true;
   return water;
 }
 

@@ -422,6 +422,20 @@ std::span<const CellPart> CellParts::parts_of(std::int64_t cell) const {
   return {first, last};
 }
 
+int CellParts::part_seen_from(const ShellGeometry& shells, const grid::UniformGrid& grid,
+                              std::int64_t cell, const Eigen::Vector3d& x) const {
+  const auto own = parts_of(cell);
+  if (own.empty()) return -1;
+  const Eigen::Vector3i ijk = grid.coordinates(Location::Cell, cell);
+  std::array<Eigen::Vector3d, 8> corner;
+  for (int c = 0; c < 8; ++c)
+    corner[c] = grid.position(Location::Node, Eigen::Vector3i(ijk + cell_corner(c)));
+  std::vector<std::uint8_t> groups;
+  for (const CellPart& part : own) groups.push_back(part.corners);
+  const int g = group_seen_from(shells, x, corner, groups);
+  return g < 0 ? -1 : static_cast<int>(&own[g] - m_parts.data());
+}
+
 const FaceSplit* CellParts::split(int axis, std::int64_t face) const {
   const auto& list = m_splits[axis];
   const auto it = std::lower_bound(list.begin(), list.end(), face,

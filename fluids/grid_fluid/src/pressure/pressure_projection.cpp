@@ -5,6 +5,7 @@
 
 #include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
 #include "shellflow/linear/cholmod_solver.hpp"
+#include "shellflow/linear/laplacian_null_space.hpp"
 #include "shellflow/linear/pcg_mic0_solver.hpp"
 #include "shellflow/linear/preconditioned_cg.hpp"
 
@@ -355,6 +356,88 @@ ProjectionStats PressureProjection::project(MacGrid& mac, double dt, const Domai
 #pragma omp parallel for schedule(static)
   for (std::int64_t i = 0; i < cells; ++i) p[i] = m_scaled[i] * to_pressure;
   m_surface = nullptr;
+  return stats;
+}
+
+ProjectionStats PressureProjection::project_parts(MacGrid& mac, FragmentVelocities& fragments,
+                                                  double dt, const DomainBoundary& boundary,
+                                                  const ShellGeometry& shells,
+                                                  const CellParts& parts,
+                                                  const CutCellSystem::Liquid& water) {
+  ProjectionStats stats;
+  apply_boundary_velocities(mac, boundary);
+  m_apertures.clear();
+  const std::int64_t cells = m_grid.size(Location::Cell);
+  // What the extrapolation reads: the closed faces and the liquid slots.
+  for (int a = 0; a < 3; ++a) {
+    auto& flags = m_neumann[a];
+    std::fill(flags.begin(), flags.end(), 0);
+    boundary.for_each_closed_face(m_grid, a,
+                                  [&](std::int64_t f, const FaceCondition&) { flags[f] = 1; });
+    for (const FaceSplit& split : parts.split_faces(a)) {
+      const auto list = parts.fragments_of(a, split);
+      if (flags[split.face] != 0 ||
+          std::any_of(list.begin(), list.end(),
+                      [&](const FaceFragment& f) { return parts.joins_slots(f); }))
+        continue;
+      // §4.3: a face the shells close between the two centres moves with them.
+      flags[split.face] = 2;
+      const Eigen::Vector3d x = m_grid.position(face_location(a), split.face);
+      Eigen::Vector3d below = x, above = x;
+      below[a] -= 0.5 * m_grid.dx();
+      above[a] += 0.5 * m_grid.dx();
+      mac.face_velocity(a)[split.face] = shells.object_velocity(below, above)[a];
+    }
+  }
+  m_parts_system.build(m_grid, parts, boundary, water);
+  m_regions.region.assign(cells, -1);
+  std::int64_t liquid = 0;
+  for (std::int64_t c = 0; c < cells; ++c)
+    if (m_parts_system.liquid(static_cast<int>(c))) {
+      m_regions.region[c] = 0;
+      ++liquid;
+    }
+  stats.liquid_cells = liquid;
+  stats.solve_cells = m_parts_system.laplacian().size();
+  const linear::GridLaplacian& a = m_parts_system.laplacian();
+  const linear::ConstantNullSpace null_space = linear::null_space_of(a);
+  m_multigrid.compute(a);
+  Eigen::VectorXd flux, b, x, total = Eigen::VectorXd::Zero(a.size());
+  double speed = 0.0, max_div = 0.0;
+  for (int pass = 0; pass < 3; ++pass) {
+    m_parts_system.outward_flux(mac, fragments, flux);
+    double scale = mac.max_face_speed();
+    for (const auto& list : fragments)
+      for (const double v : list) scale = std::max(scale, std::abs(v));
+    if (pass > 0 && flux.lpNorm<Eigen::Infinity>() <= m_settings.tolerance * scale) break;
+    b = -flux;
+    null_space.project(b);
+    if (b.lpNorm<Eigen::Infinity>() == 0.0) break;
+    x.setZero(a.size());
+    const double tolerance =
+        std::min(m_settings.tolerance, m_settings.tolerance * std::max(scale, 1e-300) / b.norm());
+    const linear::SolveStats result =
+        linear::preconditioned_cg(a, m_multigrid, b, x, tolerance, m_settings.max_iterations,
+                                  &null_space, m_scratch.pcg.get());
+    stats.iterations += result.iterations;
+    stats.max_region_iterations = std::max(stats.max_region_iterations, result.iterations);
+    stats.relative_residual = std::max(stats.relative_residual, result.relative_residual);
+    stats.converged =
+        stats.converged && (result.converged || result.relative_residual <= tolerance);
+    m_parts_system.apply_pressure(x, mac, fragments);
+    total += x;
+  }
+  m_parts_system.outward_flux(mac, fragments, flux);
+  max_div = flux.lpNorm<Eigen::Infinity>();
+  speed = mac.max_face_speed();
+  stats.max_relative_divergence = speed > 0.0 ? max_div / speed : 0.0;
+  stats.regions = 1;
+  const double to_pressure = m_grid.dx() / dt;
+  auto& p = mac.pressure();
+  for (std::int64_t c = 0; c < cells; ++c) {
+    m_scaled[c] = total[c];
+    p[c] = total[c] * to_pressure;
+  }
   return stats;
 }
 

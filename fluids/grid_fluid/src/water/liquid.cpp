@@ -111,6 +111,14 @@ sdk::Schema Liquid::schema() {
                  "F's water through and can gain energy, so scenes with cloth in water set it "
                  "false until cut cells (docs/known-limits.md). false: the level set alone, "
                  "whose volume drifts (docs/water-cell-centres.md §5)"))
+      .field("cut_cells",
+             Schema::boolean(false).doc(
+                 "give each part of a cell that shells cut its own pressure, water fraction "
+                 "and face velocities (issue #52, docs/cut-cells.md), so that water on the side "
+                 "of a shell away from a cell's centre, a film on a plate, keeps its own "
+                 "pressure and velocity. In progress: needs volume_fraction, no particles, "
+                 "still one-way shells (a shell that moves, or a two-way one, is refused when "
+                 "the run meets it), and no checkpoints yet"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))
@@ -211,6 +219,16 @@ Liquid::Liquid(const nlohmann::json& params, const grid::UniformGrid& grid,
   m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), ShellGeometry(), nullptr,
                                &m_scratch);
   m_marched_hash = bytes_hash(m_level_set.phi());
+  m_parts_on = params.at("cut_cells").get<bool>();
+  if (m_parts_on && !params.at("volume_fraction").get<bool>())
+    throw ConfigError("/water/cut_cells",
+                      "needs /water/volume_fraction true: a part on the far side of a shell "
+                      "from its cell's centre has no sample of φ, its water is its F "
+                      "(docs/cut-cells.md). Set volume_fraction true or cut_cells false");
+  if (m_parts_on && m_particles.enabled())
+    throw ConfigError("/water/cut_cells",
+                      "particles on cut cells are not in yet (docs/cut-cells.md, C5): set "
+                      "/water/particles/per_cell to 0 or cut_cells false");
   if (params.at("volume_fraction").get<bool>()) {
     m_fraction = VolumeFraction(m_level_set);
     m_fraction.set_open(m_open);

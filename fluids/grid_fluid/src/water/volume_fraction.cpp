@@ -555,6 +555,7 @@ void VolumeFraction::set_cut_cells(const CellParts* parts, const FragmentVelocit
   m_parts = parts;
   m_fragment_velocity = velocities;
   m_part_fraction.clear();
+  m_part_liquid.clear();
   m_cut_cell.clear();
   for (auto& split : m_split) split.clear();
   if (parts == nullptr) return;
@@ -654,8 +655,10 @@ VolumeFraction::FragmentPass VolumeFraction::gather_fragments(int axis, double d
     else
       pass.whole_delta.push_back({flow.to_cell, water});
   }
-  // Each part's dilation: its fill at the step's start times its fragments' outward flux.
+  // Each liquid part's dilation: its fill at the step's start times its fragments' outward
+  // flux (zero after the projection).
   for (size_t p = 0; p < parts.size(); ++p) {
+    if (m_part_liquid.size() != parts.size() || m_part_liquid[p] == 0) continue;
     const double dilation = m_part_fill[p] * outward[p] * dt / dx;
     pass.part_delta[p] += dilation;
     pass.dilation += dilation;

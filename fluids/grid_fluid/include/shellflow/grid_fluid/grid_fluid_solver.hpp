@@ -37,18 +37,19 @@
 
 #include "shellflow/geometry/shell_band.hpp"
 #include "shellflow/grid_fluid/fluid_probes.hpp"
-#include "shellflow/grid_fluid/pressure/coupling_pressure.hpp"
 #include "shellflow/grid_fluid/mac/analytic_velocity.hpp"
 #include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/mac/node_fields.hpp"
-#include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
 #include "shellflow/grid_fluid/mac/semi_lagrangian_advector.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/mac/swept_refill.hpp"
+#include "shellflow/grid_fluid/pressure/coupling_pressure.hpp"
+#include "shellflow/grid_fluid/pressure/pressure_projection.hpp"
 #include "shellflow/grid_fluid/smoke/smoke_forces.hpp"
 #include "shellflow/grid_fluid/smoke/smoke_source.hpp"
-#include "shellflow/grid_fluid/mac/swept_refill.hpp"
+#include "shellflow/grid_fluid/water/cut_cell_water.hpp"
 #include "shellflow/grid_fluid/water/liquid.hpp"
 #include "shellflow/sdk/context.hpp"
 #include "shellflow/sdk/fluid_solver.hpp"
@@ -167,6 +168,9 @@ class GridFluid final : public sdk::FluidSolver {
   PressureProjection m_projection;
   std::unique_ptr<CouplingPressure> m_coupling;  ///< made on the first two-way step
   std::unique_ptr<Liquid> m_liquid;              ///< water scenes only
+  std::unique_ptr<CutCellWater> m_cut_water;     ///< water with /water/cut_cells only
+  /// The split faces §4.2's transfers read and write (null: none).
+  const CutFaces* cut_faces() { return m_cut_water ? m_cut_water->cut_faces() : nullptr; }
   std::optional<AnalyticVelocity> m_prescribed;  ///< "prescribed_velocity": no solve
   std::vector<double> m_initial_phi;             ///< φ at t = 0, with a prescribed velocity
   double m_prescribed_speed = 0.0;               ///< its largest face speed at any time

@@ -106,6 +106,11 @@ class CellParts {
   /// The split face `face` of family `axis`, or none when the face is simply open.
   const FaceSplit* split(int axis, std::int64_t face) const;
 
+  /// The part of cut cell `cell` (an index into parts()) whose nearest corner that `x` sees
+  /// is its; −1 when x sees none (it lies in a wedge, or in a pocket that holds no corner).
+  int part_seen_from(const ShellGeometry& shells, const grid::UniformGrid& grid, std::int64_t cell,
+                     const Eigen::Vector3d& x) const;
+
   /// Corner offsets of a cell (bit x + 2y + 4z) and of a face of family `axis` (bit s + 2t).
   static Eigen::Vector3i cell_corner(int corner) {
     return Eigen::Vector3i(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);

@@ -46,6 +46,7 @@
 #include "shellflow/grid_fluid/mac/domain_boundary.hpp"
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/pressure/cut_cell_system.hpp"
 #include "shellflow/grid_fluid/pressure/face_apertures.hpp"
 #include "shellflow/grid_fluid/pressure/fluid_regions.hpp"
 #include "shellflow/linear/constant_null_space.hpp"
@@ -123,6 +124,17 @@ class PressureProjection {
                           const ShellGeometry& shells, const geometry::ShellBand* band,
                           const FreeSurface* surface = nullptr);
 
+  /// §4.3 on cut cells (docs/cut-cells.md): every part of a cell the shells cut is an unknown
+  /// (CutCellSystem over the whole grid; each singular component's constant projected out),
+  /// the faces and `fragments` updated, refined like project() until the parts' largest
+  /// divergence is within the tolerance. Leaves what the extrapolation reads as project()
+  /// does: neumann() (walls 1; a split face none of whose fragments joins its two cells'
+  /// slots 2, its velocity the shells' there), fluid_cell() (the liquid slots), no
+  /// apertures; the slots' pressure in `mac`.
+  ProjectionStats project_parts(MacGrid& mac, FragmentVelocities& fragments, double dt,
+                                const DomainBoundary& boundary, const ShellGeometry& shells,
+                                const CellParts& parts, const CutCellSystem::Liquid& water);
+
   /// Per cell: 1 where the last projection had a pressure unknown (liquid or smoke).
   bool fluid_cell(std::int64_t cell) const { return m_regions.region[cell] >= 0; }
 
@@ -194,6 +206,7 @@ class PressureProjection {
   const FreeSurface* m_surface = nullptr;  ///< during project() of a water scene
   std::vector<std::uint8_t> m_liquid;      ///< per cell, water scenes only
   FaceApertures m_apertures;               ///< water among shells: the faces' fractions
+  CutCellSystem m_parts_system;            ///< project_parts()'s
 };
 
 }  // namespace shellflow::grid_fluid

@@ -60,6 +60,8 @@ class Liquid {
   LevelSet& level_set() { return m_level_set; }
   const LiquidStats& stats() const { return m_stats; }
   const ParticleLevelSet& particles() const { return m_particles; }
+  /// Whether each part of a cell the shells cut is its own unknown ("cut_cells").
+  bool cut_cells() const { return m_parts_on; }
   /// The water fraction per cell ("volume_fraction"; not enabled() when off).
   const VolumeFraction& fraction() const { return m_fraction; }
   VolumeFraction& fraction() { return m_fraction; }
@@ -169,6 +171,7 @@ class Liquid {
   LevelSet m_level_set;
   NodeFields m_centre_velocity;  ///< what φ's rays follow
   VolumeFraction m_fraction;
+  bool m_parts_on = false;                     ///< "cut_cells"
   std::vector<grid::IndexBox> m_held_sources;  ///< cells of the emitters on this step
   std::vector<double> m_scratch;  ///< φ* being advected; after advect(), φ^n until refill(); then
                                   ///< fast marching's distances and the volume fraction's scratch

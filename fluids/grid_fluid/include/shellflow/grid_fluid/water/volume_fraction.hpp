@@ -64,6 +64,10 @@ class VolumeFraction {
   /// moves with through split faces), both kept by the caller while set; null: none. The
   /// extras' water starts at none.
   void set_cut_cells(const CellParts* parts, const FragmentVelocities* velocities);
+  /// Which parts the last projection held liquid (per CellParts::parts(); empty: none yet):
+  /// a part's dilation term weighs its fill there only, as a cell's weighs 1 where φ <= 0,
+  /// since only their faces the projection balanced.
+  void set_liquid_parts(std::vector<std::uint8_t> liquid) { m_part_liquid = std::move(liquid); }
   /// F of each part of CellParts::parts() that is not its cell's slot (the slots' water is
   /// values()'); the slots' entries are unused.
   const std::vector<double>& part_values() const { return m_part_fraction; }
@@ -211,6 +215,7 @@ class VolumeFraction {
   std::array<std::vector<std::uint8_t>, 3> m_split;
   std::vector<std::uint8_t> m_cut_cell;
   std::vector<double> m_part_fill;
+  std::vector<std::uint8_t> m_part_liquid;
   VolumeFractionStats m_stats;
 };
 

@@ -1,0 +1,68 @@
+#pragma once
+// CutCellWater: water on cut cells, `/fluid/water/cut_cells` (issue #52, docs/cut-cells.md):
+// the parts of the cells the shells cut (CellParts), the velocities of their faces'
+// fragments, and each part's φ at its virtual node for the projection on parts. For still
+// shells for now: the parts are found once, and shells that move are refused.
+// A part's φ (docs/cut-cells.md, W1): a slot's is its cell's, the level set's sample at the
+// centre it holds. An extra part has no sample of its own. Holding water beside the level
+// set's water on its side (the cells its fragments reach, whole or slots), it takes their
+// mean φ (a deep part by a shell that stands in the water); holding water with none beside
+// it, a film, its φ is the distance from the centre (its virtual node) to the plane parallel
+// to its shell that holds the water against the shell (the film's surface placed exactly, in
+// water at any thickness). Without water it is air: its side's mean φ where that is air too,
+// else half a cell from the water.
+
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "shellflow/geometry/shell_band.hpp"
+#include "shellflow/grid_fluid/mac/cell_parts.hpp"
+#include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
+#include "shellflow/grid_fluid/mac/mac_grid.hpp"
+#include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/water/level_set.hpp"
+#include "shellflow/grid_fluid/water/volume_fraction.hpp"
+#include "shellflow/sdk/shell_surface.hpp"
+
+namespace shellflow::grid_fluid {
+
+class CutCellWater {
+ public:
+  explicit CutCellWater(const grid::UniformGrid& grid) : m_grid(grid) {}
+
+  /// Finds the parts of the cells `geometry` (built from `shells`) cuts the first time, with
+  /// every fragment at its face's velocity in `mac`, and hands them to `fraction`: each cut
+  /// cell's water is shared among its parts as `level_set`'s water lies in them (4³ samples,
+  /// each given to the part it sees), its total kept. Later calls check that the shells stand
+  /// where they stood: throws shellflow::Error naming /fluid/water/cut_cells when they moved.
+  void update(sdk::ShellSet shells, const ShellGeometry& geometry, const MacGrid& mac,
+              const LevelSet& level_set, VolumeFraction& fraction);
+  bool ready() const { return m_parts != nullptr; }
+  const CellParts& parts() const { return *m_parts; }
+  FragmentVelocities& fragments() { return m_fragments; }
+  /// The split faces for §4.2's transfers.
+  const CutFaces* cut_faces() { return ready() ? &m_cut_faces : nullptr; }
+
+  /// φ at each part's virtual node (per CellParts::parts(); see the file comment), and the
+  /// parts held liquid handed to `fraction` (its dilation weights).
+  const std::vector<double>& part_phi(const ShellGeometry& geometry,
+                                      std::span<const double> cell_phi, VolumeFraction& fraction);
+  /// After the extrapolation of the faces: a fragment with no liquid part takes its face's
+  /// velocity (those beside the water keep the projection's).
+  void extrapolate_fragments(const MacGrid& mac, std::span<const double> cell_phi);
+
+ private:
+  /// Each cut cell's water shared among its parts as `level_set` shows it (see update()).
+  void share_water(const ShellGeometry& geometry, const LevelSet& level_set,
+                   VolumeFraction& fraction) const;
+
+  grid::UniformGrid m_grid;
+  std::vector<sdk::Positions> m_positions;  ///< the shells the parts were found for
+  std::unique_ptr<CellParts> m_parts;
+  FragmentVelocities m_fragments;
+  CutFaces m_cut_faces;
+  std::vector<double> m_part_phi;
+};
+
+}  // namespace shellflow::grid_fluid

@@ -1,0 +1,203 @@
+#include "shellflow/grid_fluid/water/cut_cell_water.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "shellflow/geometry/triangle_mesh.hpp"
+#include "shellflow/sdk/error.hpp"
+
+namespace shellflow::grid_fluid {
+
+using grid::Location;
+
+namespace {
+// An extra part with less water than this share of its cell is air.
+constexpr double kDryPart = 1e-9;
+}  // namespace
+
+void CutCellWater::update(sdk::ShellSet shells, const ShellGeometry& geometry, const MacGrid& mac,
+                          const LevelSet& level_set, VolumeFraction& fraction) {
+  if (m_parts) {
+    bool still = shells.size() == m_positions.size();
+    for (size_t s = 0; still && s < shells.size(); ++s)
+      still = shells[s].positions.rows() == m_positions[s].rows() &&
+              (shells[s].positions.array() == m_positions[s].array()).all();
+    if (!still)
+      throw Error(
+          "/fluid/water/cut_cells: a shell moved; cut cells follow still shells only for now "
+          "(docs/cut-cells.md, W3). Set /fluid/water/cut_cells to false for this scene.");
+    return;
+  }
+  geometry::ShellBand band(m_grid);
+  for (const auto& shell : shells) {
+    m_positions.push_back(shell.positions);
+    if (shell.triangle_count() > 0) band.add(geometry::TriangleMesh(shell), 2.0 * m_grid.dx());
+  }
+  m_parts = std::make_unique<CellParts>(geometry, band);
+  m_fragments = m_parts->still_fragments();
+  for (int a = 0; a < 3; ++a)
+    for (const FaceSplit& split : m_parts->split_faces(a))
+      for (int k = 0; k < split.count; ++k)
+        m_fragments[a][split.first + k] = mac.face_velocity(a)[split.face];
+  m_cut_faces = CutFaces{m_parts.get(), &m_fragments};
+  fraction.set_cut_cells(m_parts.get(), &m_fragments);
+  share_water(geometry, level_set, fraction);
+}
+
+void CutCellWater::share_water(const ShellGeometry& geometry, const LevelSet& level_set,
+                               VolumeFraction& fraction) const {
+  constexpr int kSamples = 4;
+  const double dx = m_grid.dx(), h = dx / kSamples;
+  const auto all = m_parts->parts();
+  std::vector<double> share(all.size(), 0.0);
+  for (size_t first = 0; first < all.size();) {
+    const std::int64_t cell = all[first].cell;
+    size_t last = first;
+    while (last < all.size() && all[last].cell == cell) ++last;
+    const double water = fraction.values()[cell];
+    if (water > 0.0) {
+      const Eigen::Vector3d low =
+          m_grid.position(Location::Cell, cell) - Eigen::Vector3d::Constant(0.5 * dx);
+      double seen = 0.0;
+      for (int k = 0; k < kSamples; ++k)
+        for (int j = 0; j < kSamples; ++j)
+          for (int i = 0; i < kSamples; ++i) {
+            const Eigen::Vector3d x = low + h * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
+            const double wet = std::clamp(0.5 - level_set.sample(x) / h, 0.0, 1.0);
+            if (wet == 0.0) continue;
+            const int p = m_parts->part_seen_from(geometry, m_grid, cell, x);
+            if (p < 0) continue;
+            share[p] += wet;
+            seen += wet;
+          }
+      // A part too small for the samples to find (a corner cut off) holds the cell's mean
+      // fill; the cell's water is then shared in proportion, its total kept.
+      for (size_t p = first; p < last; ++p)
+        if (share[p] == 0.0) {
+          share[p] = all[p].volume * kSamples * kSamples * kSamples * std::min(water, 1.0);
+          seen += share[p];
+        }
+      for (size_t p = first; p < last; ++p) {
+        const double part_water =
+            seen > 0.0 ? water * share[p] / seen : (all[p].slot ? water : 0.0);
+        if (all[p].slot)
+          fraction.values()[cell] = part_water;
+        else
+          fraction.part_values()[p] = part_water;
+      }
+    }
+    first = last;
+  }
+}
+
+const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
+                                                  std::span<const double> cell_phi,
+                                                  VolumeFraction& fraction) {
+  const auto parts = m_parts->parts();
+  const double dx = m_grid.dx();
+  m_part_phi.resize(parts.size());
+  std::vector<std::uint8_t> liquid(parts.size(), 0);
+  // The level set's samples on each extra part's side: its fragments' other cells, whole or
+  // slots (a deep part's water meets them; a film's does not).
+  struct Side {
+    double sum = 0.0;
+    int count = 0;
+    bool wet = false;
+  };
+  std::vector<Side> side(parts.size());
+  for (int a = 0; a < 3; ++a) {
+    const Location loc = face_location(a);
+    for (const FaceSplit& split : m_parts->split_faces(a)) {
+      const Eigen::Vector3i ijk = m_grid.coordinates(loc, split.face);
+      Eigen::Vector3i below = ijk;
+      below[a] -= 1;
+      const std::int64_t cells[2] = {m_grid.index(Location::Cell, below),
+                                     m_grid.index(Location::Cell, ijk)};
+      // The sample one cell farther on, for φ's slope along the axis (none at the sides).
+      std::int64_t farther[2] = {-1, -1};
+      if (below[a] > 0) {
+        Eigen::Vector3i f = below;
+        f[a] -= 1;
+        farther[0] = m_grid.index(Location::Cell, f);
+      }
+      if (ijk[a] + 1 < m_grid.cells()[a]) {
+        Eigen::Vector3i f = ijk;
+        f[a] += 1;
+        farther[1] = m_grid.index(Location::Cell, f);
+      }
+      for (const FaceFragment& fragment : m_parts->fragments_of(a, split)) {
+        const std::int32_t ends[2] = {fragment.minus, fragment.plus};
+        for (int e = 0; e < 2; ++e) {
+          const std::int32_t mine = ends[e], other = ends[1 - e];
+          if (mine < 0 || parts[mine].slot || (other >= 0 && !parts[other].slot)) continue;
+          // φ continued linearly from the neighbour and the sample beyond it (exact for a
+          // plane surface: a signed distance).
+          const double phi = cell_phi[cells[1 - e]];
+          const std::int64_t far = farther[1 - e];
+          side[mine].sum += far >= 0 ? 2.0 * phi - cell_phi[far] : phi;
+          ++side[mine].count;
+          side[mine].wet = side[mine].wet || phi <= 0.0;
+        }
+      }
+    }
+  }
+  for (size_t p = 0; p < parts.size(); ++p) {
+    const CellPart& part = parts[p];
+    if (part.slot) {  // the level set's sample: the centre lies in this part
+      m_part_phi[p] = cell_phi[part.cell];
+      liquid[p] = m_part_phi[p] <= 0.0 ? 1 : 0;
+      continue;
+    }
+    const double water = fraction.part_values()[p];
+    const bool wet = water > kDryPart;
+    const double mean = side[p].count > 0 ? side[p].sum / side[p].count : 0.0;
+    if ((wet && side[p].wet) || (!wet && side[p].count > 0 && mean > 0.0)) {
+      m_part_phi[p] = mean;  // the level set's water (or air) on its side
+      liquid[p] = mean <= 0.0 ? 1 : 0;
+      continue;
+    }
+    const Eigen::Vector3d centre = m_grid.position(Location::Cell, part.cell);
+    const auto contact = geometry.nearest(centre, std::sqrt(3.0) * dx, centre);
+    if (!wet || !contact) {
+      m_part_phi[p] = 0.5 * dx;
+      continue;
+    }
+    // The shell's plane, its normal towards the part's corners.
+    Eigen::Vector3d normal = contact->normal;
+    const int first = std::countr_zero(unsigned(part.corners));
+    const Eigen::Vector3d corner = m_grid.position(
+        Location::Node, Eigen::Vector3i(m_grid.coordinates(Location::Cell, part.cell) +
+                                        CellParts::cell_corner(first)));
+    if (normal.dot(corner - contact->point) < 0.0) normal = -normal;
+    const double shell = normal.dot(contact->point - centre) / dx;
+    const Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5), hi = Eigen::Vector3d::Constant(0.5);
+    const double beyond = VolumeFraction::box_fraction_below(normal, shell, lo, hi);
+    const double height = VolumeFraction::plane_height(normal, std::min(beyond + water, 1.0));
+    m_part_phi[p] = -height * dx;
+    liquid[p] = m_part_phi[p] <= 0.0 ? 1 : 0;
+  }
+  fraction.set_liquid_parts(std::move(liquid));
+  return m_part_phi;
+}
+
+void CutCellWater::extrapolate_fragments(const MacGrid& mac, std::span<const double> cell_phi) {
+  const auto liquid = [&](std::int32_t part, std::int64_t cell) {
+    return part >= 0 ? m_part_phi[part] <= 0.0 : cell_phi[cell] <= 0.0;
+  };  // a whole cell's φ is the level set's
+  for (int a = 0; a < 3; ++a) {
+    const Location loc = face_location(a);
+    for (const FaceSplit& split : m_parts->split_faces(a)) {
+      const Eigen::Vector3i ijk = m_grid.coordinates(loc, split.face);
+      Eigen::Vector3i below = ijk;
+      below[a] -= 1;
+      const std::int64_t plus = m_grid.index(Location::Cell, ijk);
+      const std::int64_t minus = m_grid.index(Location::Cell, below);
+      const auto list = m_parts->fragments_of(a, split);
+      for (size_t k = 0; k < list.size(); ++k)
+        if (!liquid(list[k].minus, minus) && !liquid(list[k].plus, plus))
+          m_fragments[a][split.first + k] = mac.face_velocity(a)[split.face];
+    }
+  }
+}
+
+}  // namespace shellflow::grid_fluid
