@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 #include <vector>
 
 #include "grid_fluid_test_support.hpp"
@@ -39,16 +38,7 @@ struct Tank {
     const std::vector<double> full_cells(kGrid.size(Location::Cell), -1.0);
     const std::vector<double> full_parts(parts.parts().size(), -1.0);
     system.build(kGrid, parts, DomainBoundary(), {full_cells, full_parts});
-    std::mt19937 random(3);
-    std::uniform_real_distribution<double> speed(-0.5, 0.5);
-    for (int a = 0; a < 3; ++a) {
-      const Location loc = face_location(a);
-      for (std::int64_t f = 0; f < kGrid.size(loc); ++f) {
-        const int along = kGrid.coordinates(loc, f)[a];
-        mac.face_velocity(a)[f] = along == 0 || along == kGrid.cells()[a] ? 0.0 : speed(random);
-      }
-      for (double& v : fragments[a]) v = speed(random);
-    }
+    test::random_flow(mac, fragments, 0.5, 3);
     test::project_on_parts(system, mac, fragments);
   }
   std::vector<sdk::ShellSurface> shells;

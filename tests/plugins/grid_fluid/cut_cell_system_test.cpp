@@ -7,7 +7,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <random>
 #include <vector>
 
 #include "grid_fluid_test_support.hpp"
@@ -127,16 +126,7 @@ TEST(CutCellSystem, AProjectedFlowLeavesEveryPartDivergenceFreeAndGainsNoEnergy)
   system.build(kGrid, parts, DomainBoundary(), {cell_phi, part_phi});
   MacGrid mac(kGrid);
   FragmentVelocities fragments = parts.still_fragments();
-  std::mt19937 random(5);
-  std::uniform_real_distribution<double> speed(-1.0, 1.0);
-  for (int a = 0; a < 3; ++a) {
-    const Location loc = face_location(a);
-    for (std::int64_t f = 0; f < kGrid.size(loc); ++f) {
-      const int along = kGrid.coordinates(loc, f)[a];
-      mac.face_velocity(a)[f] = along == 0 || along == kGrid.cells()[a] ? 0.0 : speed(random);
-    }
-    for (double& v : fragments[a]) v = speed(random);
-  }
+  test::random_flow(mac, fragments, 1.0, 5);
   const auto energy = [&] {
     double e = 0.0;
     for (int a = 0; a < 3; ++a) {

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <random>
 
 namespace shellflow::grid_fluid::test {
 
@@ -22,6 +23,20 @@ sdk::ShellSurface make_plate(const Eigen::Vector3d& center, const Eigen::Vector3
   s.triangles = std::make_shared<const sdk::Triangles>(mesh.triangles);
   s.surface_density = Eigen::VectorXd::Ones(mesh.triangles.rows());
   return s;
+}
+
+void random_flow(MacGrid& mac, FragmentVelocities& fragments, double amplitude, unsigned seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> speed(-amplitude, amplitude);
+  const grid::UniformGrid& grid = mac.grid();
+  for (int a = 0; a < 3; ++a) {
+    const grid::Location loc = face_location(a);
+    for (std::int64_t f = 0; f < grid.size(loc); ++f) {
+      const int along = grid.coordinates(loc, f)[a];
+      mac.face_velocity(a)[f] = along == 0 || along == grid.cells()[a] ? 0.0 : speed(random);
+    }
+    for (double& v : fragments[a]) v = speed(random);
+  }
 }
 
 Eigen::VectorXd project_on_parts(const CutCellSystem& system, MacGrid& mac,

@@ -81,6 +81,10 @@ inline std::string validate_refusal(nlohmann::json fluid) {
 Eigen::VectorXd project_on_parts(const CutCellSystem& system, MacGrid& mac,
                                  FragmentVelocities& fragments);
 
+/// Uniform random velocities in [−amplitude, amplitude] on every interior face of `mac` and
+/// every fragment (the domain's faces still), from seed `seed`.
+void random_flow(MacGrid& mac, FragmentVelocities& fragments, double amplitude, unsigned seed);
+
 /// A square plate of side `size` centred at `center` with unit normal `normal`.
 /// (Defined in grid_fluid_test_support.cpp: Eigen's FromTwoVectors costs each file that
 /// compiles it about 10 s, and 50 s with the sanitizers.)

@@ -143,25 +143,14 @@ TEST(MultigridCutCells, VCycleIsSymmetricAndPcgAgreesWithCholmod) {
   }
 }
 
-/// MG-PCG iterations to a relative residual of 1e-8 from zero.
-int iterations_of(const GridLaplacian& a) {
-  const Eigen::VectorXd b = testing::random_vector(a.size(), 9);
-  MultigridPreconditioner mg;
-  mg.compute(a);
-  Eigen::VectorXd x;
-  const SolveStats stats = preconditioned_cg(a, mg, b, x, 1e-8, 500, nullptr);
-  EXPECT_TRUE(stats.converged);
-  return stats.iterations;
-}
-
 // The parts cost about what the plain box does: at most 1.25x its iterations, issue #17's
 // bound for a sheet of closed faces (MultigridShellSides), at sizes where the plate cuts cells
 // on three and four coarse levels.
 TEST(MultigridCutCells, PartsCostAtMostAQuarterMoreIterations) {
   for (const int n : {32, 64}) {
-    const int plain = iterations_of(open_ended_box(n));
+    const int plain = testing::mg_pcg_iterations(open_ended_box(n));
     for (auto& [name, a] : cases(n)) {
-      const int cut = iterations_of(a);
+      const int cut = testing::mg_pcg_iterations(a);
       std::printf("%d^3 %s: %d MG-PCG iterations (no plate: %d)\n", n, name.c_str(), cut, plain);
       EXPECT_LE(cut, 1.25 * plain) << name << " at " << n << "^3";
     }

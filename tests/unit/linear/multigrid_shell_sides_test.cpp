@@ -200,17 +200,6 @@ TEST(MultigridShellSides, PcgAgreesWithCholmodOnShellCutDomains) {
   }
 }
 
-/// MG-PCG iterations to a relative residual of 1e-8 from zero on `a`.
-int iterations_of(const GridLaplacian& a) {
-  const Eigen::VectorXd b = testing::random_vector(a.size(), 9);
-  MultigridPreconditioner mg;
-  mg.compute(a);
-  Eigen::VectorXd x;
-  const SolveStats stats = preconditioned_cg(a, mg, b, x, 1e-8, 500, nullptr);
-  EXPECT_TRUE(stats.converged);
-  return stats.iterations;
-}
-
 // Issue #17: a sheet through coarse cells costs at most 1.25x the iterations of the same
 // box without it (a bound on a count, not a timing), at two sizes so that the sheet cuts
 // cells on three and four coarse levels. Measured (32^3 / 64^3, no sheet 10 / 11): curtain
@@ -221,9 +210,9 @@ int iterations_of(const GridLaplacian& a) {
 // 28 / 52.
 TEST(MultigridShellSides, SheetCostsAtMostAQuarterMoreIterations) {
   for (const int n : {32, 64}) {
-    const int plain = iterations_of(box_with(Sheet::None, n));
+    const int plain = testing::mg_pcg_iterations(box_with(Sheet::None, n));
     for (const Sheet sheet : kSheets) {
-      const int cut = iterations_of(box_with(sheet, n));
+      const int cut = testing::mg_pcg_iterations(box_with(sheet, n));
       std::printf("%d^3 %s: %d MG-PCG iterations (no sheet: %d)\n", n, name_of(sheet).c_str(), cut,
                   plain);
       EXPECT_LE(cut, 1.25 * plain) << name_of(sheet) << " at " << n << "^3";
@@ -251,9 +240,9 @@ TEST(MultigridShellSides, TwoWaySheetCostsAtMostAQuarterMoreIterations) {
       expect_symmetric_positive(mg, a.size(), 21, name_of(sheet));
     }
     for (const int n : {32, 64}) {
-      const int plain = iterations_of(box_with(Sheet::None, n));
+      const int plain = testing::mg_pcg_iterations(box_with(Sheet::None, n));
       for (const Sheet sheet : kSheets) {
-        const int cut = iterations_of(box_with(sheet, n, beta));
+        const int cut = testing::mg_pcg_iterations(box_with(sheet, n, beta));
         std::printf("%d^3 %s, beta %g: %d MG-PCG iterations (no sheet: %d)\n", n,
                     name_of(sheet).c_str(), beta, cut, plain);
         const double bound = sheet == Sheet::FoldedPocket && beta < 1.0f ? 1.4 : 1.25;

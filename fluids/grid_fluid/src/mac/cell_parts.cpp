@@ -178,6 +178,15 @@ void add_line_shares(const ShellGeometry& shells, const Eigen::Vector3d& from,
 
 }  // namespace
 
+std::array<std::int64_t, 2> cells_beside(const grid::UniformGrid& grid, int axis,
+                                         std::int64_t face) {
+  const Eigen::Vector3i ijk = grid.coordinates(face_location(axis), face);
+  Eigen::Vector3i below = ijk;
+  below[axis] -= 1;
+  return {below[axis] >= 0 ? grid.index(Location::Cell, below) : -1,
+          ijk[axis] < grid.cells()[axis] ? grid.index(Location::Cell, ijk) : -1};
+}
+
 Eigen::Vector3i CellParts::face_corner(int axis, int corner) {
   Eigen::Vector3i offset = Eigen::Vector3i::Zero();
   offset[(axis + 1) % 3] = corner & 1;

@@ -12,6 +12,16 @@ using grid::Location;
 namespace {
 constexpr std::uint8_t kClosed = 1, kSplit = 2;
 
+/// Calls f(face, minus, plus) for every face of family `axis`, with the cells on its two
+/// sides (−1 beyond the domain).
+template <class F>
+void for_each_face(const grid::UniformGrid& grid, int axis, F&& f) {
+  const std::int64_t count = grid.size(face_location(axis));
+  for (std::int64_t face = 0; face < count; ++face) {
+    const auto [minus, plus] = cells_beside(grid, axis, face);
+    f(face, static_cast<int>(minus), static_cast<int>(plus));
+  }
+}
 }  // namespace
 
 void CutCellSystem::build(const grid::UniformGrid& grid, const CellParts& parts,
@@ -50,30 +60,20 @@ void CutCellSystem::build(const grid::UniformGrid& grid, const CellParts& parts,
     for (const FaceSplit& split : parts.split_faces(a))
       if (kind[split.face] == 0) kind[split.face] = kSplit;
     auto& w = m_laplacian.weights(a);
-    const Eigen::Vector3i faces = grid.counts(loc);
-    for (int k = 0; k < faces.z(); ++k)
-      for (int j = 0; j < faces.y(); ++j)
-        for (int i = 0; i < faces.x(); ++i) {
-          const Eigen::Vector3i ijk(i, j, k);
-          const std::int64_t f = grid.index(loc, ijk);
-          w[f] = 0.0f;
-          if (kind[f] != 0) continue;
-          Eigen::Vector3i below = ijk;
-          below[a] -= 1;
-          const int plus = ijk[a] < n[a] ? static_cast<int>(grid.index(Location::Cell, ijk)) : -1;
-          const int minus =
-              below[a] >= 0 ? static_cast<int>(grid.index(Location::Cell, below)) : -1;
-          const bool plus_liquid = plus >= 0 && liquid(plus),
-                     minus_liquid = minus >= 0 && liquid(minus);
-          if (plus < 0 || minus < 0) {  // an open domain face: p = 0 beyond it
-            if (plus_liquid || minus_liquid) w[f] = 1.0f;
-          } else if (plus_liquid && minus_liquid) {
-            w[f] = 1.0f;
-          } else if (plus_liquid != minus_liquid) {
-            const int wet = plus_liquid ? plus : minus, dry = plus_liquid ? minus : plus;
-            dirichlet[wet] += inverse_theta(wet, dry);
-          }
-        }
+    for_each_face(grid, a, [&](std::int64_t f, int minus, int plus) {
+      w[f] = 0.0f;
+      if (kind[f] != 0) return;
+      const bool plus_liquid = plus >= 0 && liquid(plus),
+                 minus_liquid = minus >= 0 && liquid(minus);
+      if (plus < 0 || minus < 0) {  // an open domain face: p = 0 beyond it
+        if (plus_liquid || minus_liquid) w[f] = 1.0f;
+      } else if (plus_liquid && minus_liquid) {
+        w[f] = 1.0f;
+      } else if (plus_liquid != minus_liquid) {
+        const int wet = plus_liquid ? plus : minus, dry = plus_liquid ? minus : plus;
+        dirichlet[wet] += inverse_theta(wet, dry);
+      }
+    });
     // Fragments: the slots' shared one is the structured face, the others links.
     for (const FaceSplit& split : parts.split_faces(a)) {
       if (kind[split.face] != kSplit) continue;
@@ -97,13 +97,10 @@ void CutCellSystem::build(const grid::UniformGrid& grid, const CellParts& parts,
 
 std::pair<int, int> CutCellSystem::fragment_unknowns(int axis, std::int64_t face,
                                                      const FaceFragment& fragment) const {
-  const Eigen::Vector3i ijk = m_grid.coordinates(face_location(axis), face);
-  Eigen::Vector3i below = ijk;
-  below[axis] -= 1;
-  const int minus = fragment.minus >= 0 ? m_part_unknown[fragment.minus]
-                                        : static_cast<int>(m_grid.index(Location::Cell, below));
-  const int plus = fragment.plus >= 0 ? m_part_unknown[fragment.plus]
-                                      : static_cast<int>(m_grid.index(Location::Cell, ijk));
+  const auto [minus_cell, plus_cell] = cells_beside(m_grid, axis, face);
+  const int minus =
+      fragment.minus >= 0 ? m_part_unknown[fragment.minus] : static_cast<int>(minus_cell);
+  const int plus = fragment.plus >= 0 ? m_part_unknown[fragment.plus] : static_cast<int>(plus_cell);
   return {minus, plus};
 }
 
@@ -115,24 +112,15 @@ double CutCellSystem::inverse_theta(int liquid, int air) const {
 
 void CutCellSystem::outward_flux(const MacGrid& mac, const FragmentVelocities& fragments,
                                  Eigen::VectorXd& flux) const {
-  const Eigen::Vector3i n = m_grid.cells();
   flux.setZero(m_laplacian.size());
   for (int a = 0; a < 3; ++a) {
-    const Location loc = face_location(a);
     const auto& u = mac.face_velocity(a);
     const auto& kind = m_face_kind[a];
-    const Eigen::Vector3i faces = m_grid.counts(loc);
-    for (int k = 0; k < faces.z(); ++k)
-      for (int j = 0; j < faces.y(); ++j)
-        for (int i = 0; i < faces.x(); ++i) {
-          const Eigen::Vector3i ijk(i, j, k);
-          const std::int64_t f = m_grid.index(loc, ijk);
-          if (kind[f] == kSplit) continue;
-          Eigen::Vector3i below = ijk;
-          below[a] -= 1;
-          if (ijk[a] < n[a]) flux[m_grid.index(Location::Cell, ijk)] -= u[f];
-          if (below[a] >= 0) flux[m_grid.index(Location::Cell, below)] += u[f];
-        }
+    for_each_face(m_grid, a, [&](std::int64_t f, int minus, int plus) {
+      if (kind[f] == kSplit) return;
+      if (plus >= 0) flux[plus] -= u[f];
+      if (minus >= 0) flux[minus] += u[f];
+    });
     for (const FaceSplit& split : m_parts->split_faces(a)) {
       if (kind[split.face] != kSplit) continue;
       const auto list = m_parts->fragments_of(a, split);
@@ -150,7 +138,6 @@ void CutCellSystem::outward_flux(const MacGrid& mac, const FragmentVelocities& f
 
 void CutCellSystem::apply_pressure(const Eigen::VectorXd& scaled, MacGrid& mac,
                                    FragmentVelocities& fragments) const {
-  const Eigen::Vector3i n = m_grid.cells();
   // The change across a face or fragment from unknown `minus` to `plus` (−1: beyond the
   // domain, p = 0): both liquid, one liquid (ghost fluid; an open side at θ = 1), or none.
   const auto gradient = [&](int minus, int plus) {
@@ -161,23 +148,11 @@ void CutCellSystem::apply_pressure(const Eigen::VectorXd& scaled, MacGrid& mac,
     return 0.0;
   };
   for (int a = 0; a < 3; ++a) {
-    const Location loc = face_location(a);
     auto& u = mac.face_velocity(a);
     const auto& kind = m_face_kind[a];
-    const Eigen::Vector3i faces = m_grid.counts(loc);
-    for (int k = 0; k < faces.z(); ++k)
-      for (int j = 0; j < faces.y(); ++j)
-        for (int i = 0; i < faces.x(); ++i) {
-          const Eigen::Vector3i ijk(i, j, k);
-          const std::int64_t f = m_grid.index(loc, ijk);
-          if (kind[f] != 0) continue;
-          Eigen::Vector3i below = ijk;
-          below[a] -= 1;
-          const int plus = ijk[a] < n[a] ? static_cast<int>(m_grid.index(Location::Cell, ijk)) : -1;
-          const int minus =
-              below[a] >= 0 ? static_cast<int>(m_grid.index(Location::Cell, below)) : -1;
-          u[f] -= gradient(minus, plus);
-        }
+    for_each_face(m_grid, a, [&](std::int64_t f, int minus, int plus) {
+      if (kind[f] == 0) u[f] -= gradient(minus, plus);
+    });
     for (const FaceSplit& split : m_parts->split_faces(a)) {
       if (kind[split.face] != kSplit) continue;
       const auto list = m_parts->fragments_of(a, split);

@@ -109,10 +109,9 @@ const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
     const Location loc = face_location(a);
     for (const FaceSplit& split : m_parts->split_faces(a)) {
       const Eigen::Vector3i ijk = m_grid.coordinates(loc, split.face);
+      const auto cells = cells_beside(m_grid, a, split.face);
       Eigen::Vector3i below = ijk;
       below[a] -= 1;
-      const std::int64_t cells[2] = {m_grid.index(Location::Cell, below),
-                                     m_grid.index(Location::Cell, ijk)};
       // The sample one cell farther on, for φ's slope along the axis (none at the sides).
       std::int64_t farther[2] = {-1, -1};
       if (below[a] > 0) {
@@ -185,13 +184,8 @@ void CutCellWater::extrapolate_fragments(const MacGrid& mac, std::span<const dou
     return part >= 0 ? m_part_phi[part] <= 0.0 : cell_phi[cell] <= 0.0;
   };  // a whole cell's φ is the level set's
   for (int a = 0; a < 3; ++a) {
-    const Location loc = face_location(a);
     for (const FaceSplit& split : m_parts->split_faces(a)) {
-      const Eigen::Vector3i ijk = m_grid.coordinates(loc, split.face);
-      Eigen::Vector3i below = ijk;
-      below[a] -= 1;
-      const std::int64_t plus = m_grid.index(Location::Cell, ijk);
-      const std::int64_t minus = m_grid.index(Location::Cell, below);
+      const auto [minus, plus] = cells_beside(m_grid, a, split.face);
       const auto list = m_parts->fragments_of(a, split);
       for (size_t k = 0; k < list.size(); ++k)
         if (!liquid(list[k].minus, minus) && !liquid(list[k].plus, plus))

@@ -593,7 +593,6 @@ double VolumeFraction::split_face_flux(int axis, std::int64_t face) const {
 
 VolumeFraction::FragmentPass VolumeFraction::gather_fragments(int axis, double dt) const {
   const auto parts = m_parts->parts();
-  const Location loc = face_location(axis);
   const double dx = m_mac.dx();
   FragmentPass pass;
   pass.part_delta.assign(parts.size(), 0.0);
@@ -609,11 +608,7 @@ VolumeFraction::FragmentPass VolumeFraction::gather_fragments(int axis, double d
   std::vector<Flow> flows;
   std::vector<double> given(parts.size(), 0.0), outward(parts.size(), 0.0);
   for (const FaceSplit& split : m_parts->split_faces(axis)) {
-    const Eigen::Vector3i ijk = m_mac.coordinates(loc, split.face);
-    Eigen::Vector3i below = ijk;
-    below[axis] -= 1;
-    const std::int64_t plus_cell = m_mac.index(Location::Cell, ijk);
-    const std::int64_t minus_cell = m_mac.index(Location::Cell, below);
+    const auto [minus_cell, plus_cell] = cells_beside(m_mac, axis, split.face);
     const auto fragments = m_parts->fragments_of(axis, split);
     for (size_t k = 0; k < fragments.size(); ++k) {
       const FaceFragment& fragment = fragments[k];

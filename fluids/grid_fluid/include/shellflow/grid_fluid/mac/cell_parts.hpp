@@ -45,6 +45,11 @@ struct FaceFragment {
   std::int32_t minus = -1, plus = -1;
 };
 
+/// The cells on the two sides of face `face` of family `axis`: {minus, plus}, −1 beyond the
+/// domain.
+std::array<std::int64_t, 2> cells_beside(const grid::UniformGrid& grid, int axis,
+                                         std::int64_t face);
+
 /// A fragment's aperture as the pressure operator holds it (GridLaplacian's weights are
 /// floats): every flux through a fragment reads this number, so that the parts of a projected
 /// flow balance to round-off.
