@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "shellflow/geometry/triangle_mesh.hpp"
+#include "shellflow/grid_fluid/water/level_set_advector.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::grid_fluid {
@@ -47,9 +48,11 @@ void CutCellWater::update(sdk::ShellSet shells, const ShellGeometry& geometry, c
 void CutCellWater::share_water(const ShellGeometry& geometry, const LevelSet& level_set,
                                VolumeFraction& fraction) const {
   constexpr int kSamples = 4;
-  const double dx = m_grid.dx(), h = dx / kSamples;
+  const double dx = m_grid.dx(), h = dx / kSamples;  // the samples' spacing
   const auto all = m_parts->parts();
   std::vector<double> share(all.size(), 0.0);
+  std::vector<int> found(all.size(), 0);  // the samples each part sees, wet or dry
+  const LevelSetAdvector visible(level_set.grid());
   for (size_t first = 0; first < all.size();) {
     const std::int64_t cell = all[first].cell;
     size_t last = first;
@@ -63,17 +66,20 @@ void CutCellWater::share_water(const ShellGeometry& geometry, const LevelSet& le
         for (int j = 0; j < kSamples; ++j)
           for (int i = 0; i < kSamples; ++i) {
             const Eigen::Vector3d x = low + h * Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5);
-            const double wet = std::clamp(0.5 - level_set.sample(x) / h, 0.0, 1.0);
-            if (wet == 0.0) continue;
             const int p = m_parts->part_seen_from(geometry, m_grid, cell, x);
             if (p < 0) continue;
+            // Water by the sign of φ as the sample sees it: the lattice samples across a shell
+            // (a dam where the water ends) continued from the sample's own side.
+            const auto phi = visible.sample_visible(level_set.phi(), x, geometry);
+            const double wet = phi && *phi <= 0.0 ? 1.0 : 0.0;
+            ++found[p];
             share[p] += wet;
             seen += wet;
           }
       // A part too small for the samples to find (a corner cut off) holds the cell's mean
       // fill; the cell's water is then shared in proportion, its total kept.
       for (size_t p = first; p < last; ++p)
-        if (share[p] == 0.0) {
+        if (found[p] == 0) {
           share[p] = all[p].volume * kSamples * kSamples * kSamples * std::min(water, 1.0);
           seen += share[p];
         }

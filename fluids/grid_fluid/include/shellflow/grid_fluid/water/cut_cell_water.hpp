@@ -34,8 +34,9 @@ class CutCellWater {
   /// Finds the parts of the cells `geometry` (built from `shells`) cuts the first time, with
   /// every fragment at its face's velocity in `mac`, and hands them to `fraction`: each cut
   /// cell's water is shared among its parts as `level_set`'s water lies in them (4³ samples,
-  /// each given to the part it sees), its total kept. Later calls check that the shells stand
-  /// where they stood: throws shellflow::Error naming /fluid/water/cut_cells when they moved.
+  /// each given to the part it sees and wet by φ's sign as it sees φ), its total kept. Later calls
+  /// check that the shells stand where they stood: throws shellflow::Error naming
+  /// /fluid/water/cut_cells when they moved.
   void update(sdk::ShellSet shells, const ShellGeometry& geometry, const MacGrid& mac,
               const LevelSet& level_set, VolumeFraction& fraction);
   bool ready() const { return m_parts != nullptr; }
