@@ -403,7 +403,6 @@ ProjectionStats PressureProjection::project_parts(MacGrid& mac, FragmentVelociti
   const linear::ConstantNullSpace null_space = linear::null_space_of(a);
   m_multigrid.compute(a);
   Eigen::VectorXd flux, b, x, total = Eigen::VectorXd::Zero(a.size());
-  double speed = 0.0, max_div = 0.0;
   for (int pass = 0; pass < 3; ++pass) {
     m_parts_system.outward_flux(mac, fragments, flux);
     double scale = mac.max_face_speed();
@@ -428,10 +427,8 @@ ProjectionStats PressureProjection::project_parts(MacGrid& mac, FragmentVelociti
     total += x;
   }
   m_parts_system.outward_flux(mac, fragments, flux);
-  max_div = flux.lpNorm<Eigen::Infinity>();
-  speed = mac.max_face_speed();
-  stats.max_relative_divergence = speed > 0.0 ? max_div / speed : 0.0;
-  stats.regions = 1;
+  const double speed = mac.max_face_speed();
+  stats.max_relative_divergence = speed > 0.0 ? flux.lpNorm<Eigen::Infinity>() / speed : 0.0;
   const double to_pressure = m_grid.dx() / dt;
   auto& p = mac.pressure();
   for (std::int64_t c = 0; c < cells; ++c) {

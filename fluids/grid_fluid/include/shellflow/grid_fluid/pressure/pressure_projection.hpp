@@ -130,7 +130,7 @@ class PressureProjection {
   /// divergence is within the tolerance. Leaves what the extrapolation reads as project()
   /// does: neumann() (walls 1; a split face none of whose fragments joins its two cells'
   /// slots 2, its velocity the shells' there), fluid_cell() (the liquid slots), no
-  /// apertures; the slots' pressure in `mac`.
+  /// apertures; the slots' pressure in `mac`. Its stats count no regions (none are labelled).
   ProjectionStats project_parts(MacGrid& mac, FragmentVelocities& fragments, double dt,
                                 const DomainBoundary& boundary, const ShellGeometry& shells,
                                 const CellParts& parts, const CutCellSystem::Liquid& water);
