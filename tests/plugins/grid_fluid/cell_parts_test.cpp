@@ -22,20 +22,9 @@ const grid::UniformGrid kGrid(Eigen::Vector3d::Zero(), 1.0 / 8, Eigen::Vector3i(
 const double kDx = kGrid.dx();
 const double kEpsilon = 1e-3 * kDx;
 
-struct Found {
-  std::vector<sdk::ShellSurface> shells;
-  std::unique_ptr<ShellGeometry> geometry;
-  CellParts parts;
-};
-
-/// The parts that plates (each wider than the domain, `nodes` per side) give.
-Found parts_of(std::vector<sdk::ShellSurface> shells) {
-  Found found{std::move(shells), nullptr, {}};
-  found.geometry = std::make_unique<ShellGeometry>(found.shells, kEpsilon);
-  geometry::ShellBand band(kGrid);
-  for (const auto& s : found.shells) band.add(geometry::TriangleMesh(s), 2.0 * kDx);
-  found.parts = CellParts(*found.geometry, band);
-  return found;
+/// The parts that plates (each wider than the domain) give.
+test::CutShells parts_of(std::vector<sdk::ShellSurface> shells) {
+  return test::CutShells(kGrid, std::move(shells));
 }
 
 sdk::ShellSurface level_plate(double y, int nodes = 9) {

@@ -27,12 +27,9 @@ const double kPlate = 5.82 * kDx;  // 0.32 of a cell above row 5's centres: the 
 
 struct Tank {
   Tank()
-      : shells{test::make_plate({0.25, kPlate, 0.25}, Eigen::Vector3d::UnitY(), 2.0, 9)},
-        geometry(shells, 1e-3 * kDx),
-        band(kGrid),
+      : cut(kGrid, {test::make_plate({0.25, kPlate, 0.25}, Eigen::Vector3d::UnitY(), 2.0, 9)}),
+        parts(cut.parts),
         mac(kGrid) {
-    band.add(geometry::TriangleMesh(shells.front()), 2.0 * kDx);
-    parts = CellParts(geometry, band);
     fragments = parts.still_fragments();
     // A random flow projected on the parts of a full tank: no part has any divergence.
     const std::vector<double> full_cells(kGrid.size(Location::Cell), -1.0);
@@ -41,10 +38,8 @@ struct Tank {
     test::random_flow(mac, fragments, 0.5, 3);
     test::project_on_parts(system, mac, fragments);
   }
-  std::vector<sdk::ShellSurface> shells;
-  ShellGeometry geometry;
-  geometry::ShellBand band;
-  CellParts parts;
+  test::CutShells cut;
+  const CellParts& parts;
   FragmentVelocities fragments;
   CutCellSystem system;
   MacGrid mac;

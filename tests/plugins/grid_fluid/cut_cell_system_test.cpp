@@ -23,21 +23,6 @@ const grid::UniformGrid kGrid(Eigen::Vector3d::Zero(), 1.0 / 16, Eigen::Vector3i
 const double kDx = kGrid.dx();
 constexpr double kGravity = 9.81, kDt = 0.01;
 
-struct Scene {
-  std::vector<sdk::ShellSurface> shells;
-  std::unique_ptr<ShellGeometry> geometry;
-  CellParts parts;
-};
-
-Scene scene_with(std::vector<sdk::ShellSurface> shells) {
-  Scene s{std::move(shells), nullptr, {}};
-  s.geometry = std::make_unique<ShellGeometry>(s.shells, 1e-3 * kDx);
-  geometry::ShellBand band(kGrid);
-  for (const auto& shell : s.shells) band.add(geometry::TriangleMesh(shell), 2.0 * kDx);
-  s.parts = CellParts(*s.geometry, band);
-  return s;
-}
-
 // Water fills the tank below a level plate across it and stands 2.7 cells deep on it. One
 // step of gravity (u* = −g Δt on every y face and fragment) is taken back entirely by the
 // pressure: every face and fragment with water on a side is still to 1e-9 m/s (the solve's
@@ -48,8 +33,8 @@ Scene scene_with(std::vector<sdk::ShellSurface> shells) {
 TEST(CutCellSystem, StillWaterOnBothSidesOfAPlateStaysStillWithEachSidesPressure) {
   for (const double h : {0.1, 0.32, 0.68, 0.9}) {
     const double plate = (5.5 + h) * kDx, surface = plate + 2.7 * kDx;
-    const Scene scene =
-        scene_with({test::make_plate({0.25, plate, 0.25}, Eigen::Vector3d::UnitY(), 2.0, 9)});
+    const test::CutShells scene = test::CutShells(
+        kGrid, {test::make_plate({0.25, plate, 0.25}, Eigen::Vector3d::UnitY(), 2.0, 9)});
     const CellParts& parts = scene.parts;
     ASSERT_EQ(parts.parts().size(), 2u * 64u) << "h " << h;
     // φ above the plate: the distance to the surface; below it the tank is full (deep).
@@ -115,10 +100,10 @@ TEST(CutCellSystem, StillWaterOnBothSidesOfAPlateStaysStillWithEachSidesPressure
 // largest |u*|, the solve's tolerance) and does not gain kinetic energy, Σ β u² over faces and
 // fragments (an orthogonal projection in that norm can only lose it).
 TEST(CutCellSystem, AProjectedFlowLeavesEveryPartDivergenceFreeAndGainsNoEnergy) {
-  const Scene scene =
-      scene_with({test::make_plate({0.25, 5.82 * kDx, 0.25}, Eigen::Vector3d::UnitY(), 2.0, 9),
-                  test::make_plate({0.25, 10.3 * kDx, 0.25},
-                                   Eigen::Vector3d(0.2, 1.0, 0.1).normalized(), 0.25, 7)});
+  const test::CutShells scene = test::CutShells(
+      kGrid, {test::make_plate({0.25, 5.82 * kDx, 0.25}, Eigen::Vector3d::UnitY(), 2.0, 9),
+              test::make_plate({0.25, 10.3 * kDx, 0.25},
+                               Eigen::Vector3d(0.2, 1.0, 0.1).normalized(), 0.25, 7)});
   const CellParts& parts = scene.parts;
   const std::vector<double> cell_phi(kGrid.size(Location::Cell), -1.0);
   const std::vector<double> part_phi(parts.parts().size(), -1.0);

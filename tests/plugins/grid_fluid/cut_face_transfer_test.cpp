@@ -30,19 +30,11 @@ bool lower_fragment(int axis, const FaceFragment& fragment) {
   return CellParts::face_corner(axis, first).y() == 0;
 }
 
-struct Plate {
-  Plate()
-      : shells{test::make_plate({0.25, kPlate, 0.25}, Eigen::Vector3d::UnitY(), 2.0, 9)},
-        geometry(shells, 1e-3 * kDx),
-        band(kGrid) {
-    band.add(geometry::TriangleMesh(shells.front()), 2.0 * kDx);
-    parts = CellParts(geometry, band);
-  }
-  std::vector<sdk::ShellSurface> shells;
-  ShellGeometry geometry;
-  geometry::ShellBand band;
-  CellParts parts;
-};
+/// The level plate across the tank, and the parts of the row it cuts.
+test::CutShells plate_parts() {
+  return test::CutShells(
+      kGrid, {test::make_plate({0.25, kPlate, 0.25}, Eigen::Vector3d::UnitY(), 2.0, 9)});
+}
 
 // Faces still but the side fragments of row 5: 3 m/s below the plate, 5 m/s above it (the
 // film's). An interior node at y = 6Δx, above the plate, takes the mean of its two row-5
@@ -50,7 +42,7 @@ struct Plate {
 // (3 + 3 + 0 + 0)/4. Without the fragments the node above sees no row-5 face (their centres lie
 // below the plate) and reads 0.
 TEST(CutFaceTransfer, ANodeReadsTheFragmentsOfItsSideOfAPlate) {
-  const Plate plate;
+  const test::CutShells plate = plate_parts();
   MacGrid mac(kGrid);
   FragmentVelocities fragments = plate.parts.still_fragments();
   for (const int a : {0, 2})
@@ -82,7 +74,7 @@ TEST(CutFaceTransfer, ANodeReadsTheFragmentsOfItsSideOfAPlate) {
 // those above −1, and the MAC face keeps the slots' (below, where the centres lie); the faces
 // of rows 4 and 6 take +1 and −1.
 TEST(CutFaceTransfer, AFragmentTakesItsOwnCornersIncrement) {
-  const Plate plate;
+  const test::CutShells plate = plate_parts();
   MacGrid mac(kGrid);
   FragmentVelocities fragments = plate.parts.still_fragments();
   NodeFields u_star(kGrid, 300.0, false);

@@ -25,6 +25,12 @@ sdk::ShellSurface make_plate(const Eigen::Vector3d& center, const Eigen::Vector3
   return s;
 }
 
+CutShells::CutShells(const grid::UniformGrid& grid, std::vector<sdk::ShellSurface> surfaces)
+    : shells(std::move(surfaces)), geometry(shells, 1e-3 * grid.dx()), band(grid) {
+  for (const auto& shell : shells) band.add(geometry::TriangleMesh(shell), 2.0 * grid.dx());
+  parts = CellParts(geometry, band);
+}
+
 void random_flow(MacGrid& mac, FragmentVelocities& fragments, double amplitude, unsigned seed) {
   std::mt19937 random(seed);
   std::uniform_real_distribution<double> speed(-amplitude, amplitude);

@@ -13,7 +13,9 @@
 #include <string>
 
 #include "shellflow/geometry/mesh_generators.hpp"
+#include "shellflow/geometry/shell_band.hpp"
 #include "shellflow/grid_fluid/grid_fluid_solver.hpp"
+#include "shellflow/grid_fluid/mac/cell_parts.hpp"
 #include "shellflow/grid_fluid/pressure/cut_cell_system.hpp"
 #include "shellflow/grid_fluid/water/liquid.hpp"
 #include "shellflow/runtime/run_driver.hpp"
@@ -74,6 +76,16 @@ inline std::string validate_refusal(nlohmann::json fluid) {
   ADD_FAILURE() << "the scene was accepted: " << scene.dump();
   return "";
 }
+
+/// Still shells in `grid`, their geometry (ε = 1e-3 Δx, the solver's) and the parts of the
+/// cells they cut, found over a band grown by 2Δx (the solver's): the cut-cell tests' scene.
+struct CutShells {
+  CutShells(const grid::UniformGrid& grid, std::vector<sdk::ShellSurface> shells);
+  std::vector<sdk::ShellSurface> shells;
+  ShellGeometry geometry;
+  geometry::ShellBand band;
+  CellParts parts;
+};
 
 /// One projection on cut cells: solves A p' = −(the parts' outward flux) by MG-PCG to a
 /// relative residual of 1e-13 (each enclosed component's constant projected out), applies

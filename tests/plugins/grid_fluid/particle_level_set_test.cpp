@@ -126,8 +126,8 @@ TEST(ParticleLevelSet, ZalesaksSphereKeepsInAQuarterTurnTheWaterTheLevelSetAlone
   // §4.4.2 (Enright et al. 2002) on cell-centred φ: the particles' corrections reach the
   // cell centres about them. The trilinear step alone rounds the slot's edges away every
   // step (the slot is 1.6 cells wide at 32^3); the particles give them back. Bound: with
-  // particles, under a third of the level set's loss alone, which it must show (more than
-  // 5 %): measured figures in docs/measured-figures.md.
+  // particles, under a third of the level set's loss alone, which must itself be more than
+  // 5 % so that the comparison can fail (the figures: docs/measured-figures.md).
   const Revolution alone = turn_zalesak(32, 0, "semi_lagrangian", true, 0.25);
   const Revolution with = turn_zalesak(32, 16, "semi_lagrangian", true, 0.25);
   const double change_alone = alone.volume_end / alone.volume_start - 1.0;

@@ -439,9 +439,9 @@ int CellParts::part_seen_from(const ShellGeometry& shells, const grid::UniformGr
   std::array<Eigen::Vector3d, 8> corner;
   for (int c = 0; c < 8; ++c)
     corner[c] = grid.position(Location::Node, Eigen::Vector3i(ijk + cell_corner(c)));
-  std::vector<std::uint8_t> groups;
-  for (const CellPart& part : own) groups.push_back(part.corners);
-  const int g = group_seen_from(shells, x, corner, groups);
+  std::array<std::uint8_t, 8> groups{};  // a cell has at most 8 parts (one per corner)
+  for (size_t p = 0; p < own.size(); ++p) groups[p] = own[p].corners;
+  const int g = group_seen_from(shells, x, corner, std::span(groups).first(own.size()));
   return g < 0 ? -1 : static_cast<int>(&own[g] - m_parts.data());
 }
 

@@ -88,8 +88,6 @@ class CellParts {
   std::span<const FaceFragment> fragments_of(int axis, const FaceSplit& split) const {
     return std::span<const FaceFragment>(m_fragments[axis]).subspan(split.first, split.count);
   }
-  /// How many fragments the split faces of family `axis` hold in all.
-  std::size_t fragment_count(int axis) const { return m_fragments[axis].size(); }
   /// A velocity of 0 for every fragment.
   FragmentVelocities still_fragments() const {
     return {std::vector<double>(m_fragments[0].size(), 0.0),
