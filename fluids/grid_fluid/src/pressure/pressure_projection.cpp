@@ -382,6 +382,7 @@ ProjectionStats PressureProjection::project_parts(MacGrid& mac, FragmentVelociti
         continue;
       // §4.3: a face the shells close between the two centres moves with them.
       flags[split.face] = 2;
+      ++stats.shell_neumann_faces;
       const Eigen::Vector3d x = m_grid.position(face_location(a), split.face);
       Eigen::Vector3d below = x, above = x;
       below[a] -= 0.5 * m_grid.dx();

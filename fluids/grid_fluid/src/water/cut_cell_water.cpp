@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "shellflow/geometry/triangle_mesh.hpp"
 #include "shellflow/grid_fluid/water/level_set_advector.hpp"
@@ -12,8 +13,9 @@ namespace shellflow::grid_fluid {
 using grid::Location;
 
 namespace {
-// An extra part with less water than this share of its cell is air.
-constexpr double kDryPart = 1e-9;
+// Water the level set does not show is a film, liquid, from this share of its cell (a film
+// a thousandth of a cell thick across it); less is a trace the pressure does not see.
+constexpr double kFilm = 1e-3;
 }  // namespace
 
 void CutCellWater::update(sdk::ShellSet shells, const ShellGeometry& geometry, const MacGrid& mac,
@@ -108,7 +110,6 @@ const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
   struct Side {
     double sum = 0.0;
     int count = 0;
-    bool wet = false;
   };
   std::vector<Side> side(parts.size());
   for (int a = 0; a < 3; ++a) {
@@ -141,48 +142,90 @@ const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
           const std::int64_t far = farther[1 - e];
           side[mine].sum += far >= 0 ? 2.0 * phi - cell_phi[far] : phi;
           ++side[mine].count;
-          side[mine].wet = side[mine].wet || phi <= 0.0;
         }
       }
     }
   }
+  // The level set's φ at each virtual node: a slot's sample, an extra's side continued.
   for (size_t p = 0; p < parts.size(); ++p) {
     const CellPart& part = parts[p];
-    if (part.slot) {  // the level set's sample: the centre lies in this part
+    if (part.slot)
       m_part_phi[p] = cell_phi[part.cell];
-      liquid[p] = m_part_phi[p] <= 0.0 ? 1 : 0;
-      continue;
-    }
-    const double water = fraction.part_values()[p];
-    const bool wet = water > kDryPart;
-    const double mean = side[p].count > 0 ? side[p].sum / side[p].count : 0.0;
-    if ((wet && side[p].wet) || (!wet && side[p].count > 0 && mean > 0.0)) {
-      m_part_phi[p] = mean;  // the level set's water (or air) on its side
-      liquid[p] = mean <= 0.0 ? 1 : 0;
-      continue;
-    }
-    const Eigen::Vector3d centre = m_grid.position(Location::Cell, part.cell);
-    const auto contact = geometry.nearest(centre, std::sqrt(3.0) * dx, centre);
-    if (!wet || !contact) {
-      m_part_phi[p] = 0.5 * dx;
-      continue;
-    }
-    // The shell's plane, its normal towards the part's corners.
-    Eigen::Vector3d normal = contact->normal;
-    const int first = std::countr_zero(unsigned(part.corners));
-    const Eigen::Vector3d corner = m_grid.position(
-        Location::Node, Eigen::Vector3i(m_grid.coordinates(Location::Cell, part.cell) +
-                                        CellParts::cell_corner(first)));
-    if (normal.dot(corner - contact->point) < 0.0) normal = -normal;
-    const double shell = normal.dot(contact->point - centre) / dx;
-    const Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5), hi = Eigen::Vector3d::Constant(0.5);
-    const double beyond = VolumeFraction::box_fraction_below(normal, shell, lo, hi);
-    const double height = VolumeFraction::plane_height(normal, std::min(beyond + water, 1.0));
-    m_part_phi[p] = -height * dx;
+    else
+      m_part_phi[p] = side[p].count > 0 ? side[p].sum / side[p].count : 0.5 * dx;
     liquid[p] = m_part_phi[p] <= 0.0 ? 1 : 0;
+  }
+  // Water the level set shows as air with no liquid beside it on its side is a film it lost:
+  // liquid, its φ from the film's plane (a part holding a little of a deep neighbour's surface
+  // is that surface's, as a whole cell would be).
+  const auto beside = liquid_beside(cell_phi, liquid);
+  for (size_t p = 0; p < parts.size(); ++p) {
+    const CellPart& part = parts[p];
+    const double water = part.slot ? fraction.values()[part.cell] : fraction.part_values()[p];
+    if (liquid[p] || beside[p] || water <= kFilm) continue;
+    const auto film = film_surface(geometry, part, water);
+    if (!film) continue;
+    // An extra's centre lies behind its shell, in the film's half-space; a slot's may lie
+    // above its film, which it then holds at its depth below the centre.
+    m_part_phi[p] = part.slot ? -(film->height - film->shell) * dx : -film->height * dx;
+    liquid[p] = 1;
   }
   fraction.set_liquid_parts(std::move(liquid));
   return m_part_phi;
+}
+
+std::vector<std::uint8_t> CutCellWater::liquid_beside(std::span<const double> cell_phi,
+                                                       std::span<const std::uint8_t> liquid) const {
+  const auto parts = m_parts->parts();
+  std::vector<std::uint8_t> beside(parts.size(), 0);
+  const auto liquid_at = [&](std::int32_t part, std::int64_t cell) {
+    return part >= 0 ? liquid[part] != 0 : cell >= 0 && cell_phi[cell] <= 0.0;
+  };
+  for (int a = 0; a < 3; ++a)
+    for (const FaceSplit& split : m_parts->split_faces(a)) {
+      const auto [minus, plus] = cells_beside(m_grid, a, split.face);
+      for (const FaceFragment& fragment : m_parts->fragments_of(a, split)) {
+        if (fragment.minus >= 0 && liquid_at(fragment.plus, plus)) beside[fragment.minus] = 1;
+        if (fragment.plus >= 0 && liquid_at(fragment.minus, minus)) beside[fragment.plus] = 1;
+      }
+    }
+  // A slot's faces no shell splits join it to whole cells or to other slots.
+  for (size_t p = 0; p < parts.size(); ++p) {
+    if (!parts[p].slot || beside[p]) continue;
+    const Eigen::Vector3i ijk = m_grid.coordinates(Location::Cell, parts[p].cell);
+    for (int a = 0; a < 3 && !beside[p]; ++a)
+      for (int side = 0; side < 2 && !beside[p]; ++side) {
+        Eigen::Vector3i face = ijk, next = ijk;
+        face[a] += side;
+        next[a] += side ? 1 : -1;
+        if (next[a] < 0 || next[a] >= m_grid.cells()[a]) continue;
+        if (m_parts->split(a, m_grid.index(face_location(a), face)) != nullptr) continue;
+        beside[p] = cell_phi[m_grid.index(Location::Cell, next)] <= 0.0 ? 1 : 0;
+      }
+  }
+  return beside;
+}
+
+std::optional<CutCellWater::FilmSurface> CutCellWater::film_surface(const ShellGeometry& geometry,
+                                                                   const CellPart& part,
+                                                                   double water) const {
+  const double dx = m_grid.dx();
+  const Eigen::Vector3d centre = m_grid.position(Location::Cell, part.cell);
+  const auto contact = geometry.nearest(centre, std::sqrt(3.0) * dx, centre);
+  if (!contact) return std::nullopt;
+  // The shell's plane, its normal towards the part's corners.
+  Eigen::Vector3d normal = contact->normal;
+  const int first = std::countr_zero(unsigned(part.corners));
+  const Eigen::Vector3d corner = m_grid.position(
+      Location::Node, Eigen::Vector3i(m_grid.coordinates(Location::Cell, part.cell) +
+                                      CellParts::cell_corner(first)));
+  if (normal.dot(corner - contact->point) < 0.0) normal = -normal;
+  FilmSurface film;
+  film.shell = normal.dot(contact->point - centre) / dx;
+  const Eigen::Vector3d lo = Eigen::Vector3d::Constant(-0.5), hi = Eigen::Vector3d::Constant(0.5);
+  const double beyond = VolumeFraction::box_fraction_below(normal, film.shell, lo, hi);
+  film.height = VolumeFraction::plane_height(normal, std::min(beyond + water, 1.0));
+  return film;
 }
 
 void CutCellWater::extrapolate_fragments(const MacGrid& mac, std::span<const double> cell_phi) {

@@ -13,6 +13,7 @@
 // else half a cell from the water.
 
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -57,6 +58,19 @@ class CutCellWater {
   /// Each cut cell's water shared among its parts as `level_set` shows it (see update()).
   void share_water(const ShellGeometry& geometry, const LevelSet& level_set,
                    VolumeFraction& fraction) const;
+
+  /// Whether each part meets a liquid neighbour on its side: across its fragments (a whole
+  /// cell by `cell_phi`, a part by `liquid`) or, a slot, across its faces no shell splits.
+  std::vector<std::uint8_t> liquid_beside(std::span<const double> cell_phi,
+                                          std::span<const std::uint8_t> liquid) const;
+  /// A film's surface in `part`: the plane parallel to its nearest shell that holds `water`
+  /// (a share of the cell) against the shell, and the shell's plane, each as a height along
+  /// the normal into the part, in cells from the centre; nullopt with no shell within √3Δx.
+  struct FilmSurface {
+    double shell = 0.0, height = 0.0;
+  };
+  std::optional<FilmSurface> film_surface(const ShellGeometry& geometry, const CellPart& part,
+                                          double water) const;
 
   grid::UniformGrid m_grid;
   std::vector<sdk::Positions> m_positions;  ///< the shells the parts were found for
