@@ -38,8 +38,9 @@ void CutCellSystem::build(const grid::UniformGrid& grid, const CellParts& parts,
   std::vector<int> extra_cell;
   m_phi.assign(water.cell_phi.begin(), water.cell_phi.end());
   for (size_t p = 0; p < all.size(); ++p) {
-    if (all[p].slot) {
+    if (all[p].slot) {  // its cell's unknown, φ as the water gives it (a film's slot)
       m_part_unknown[p] = static_cast<int>(all[p].cell);
+      m_phi[all[p].cell] = water.part_phi[p];
       continue;
     }
     m_part_unknown[p] = cells + static_cast<int>(extra_cell.size());

@@ -760,8 +760,8 @@ void Liquid::extrapolate(MacGrid& mac, const PressureProjection& projection,
           const bool set = neumann[f] != 0 || phi[above] + phi[below] <= 0.0;
           // 2: a wall's, inflow side's or emitter's face, 3: a shell's.
           known[f] = neumann[f] == 2 ? 3 : neumann[f] != 0 ? 2 : set ? 1 : 0;
-          // The projection's liquid cells have φ <= 0: most faces have none beside them.
-          if (!keep || known[f] != 0 || std::min(phi[above], phi[below]) > 0.0) continue;
+          // The projection's liquid cells (φ <= 0, or a film's slot with cut cells).
+          if (!keep || known[f] != 0) continue;
           const int along = a == 0 ? i : first[a];
           const bool wet = (along < cells[a] && projection.fluid_cell(above)) ||
                            (along > 0 && projection.fluid_cell(below));

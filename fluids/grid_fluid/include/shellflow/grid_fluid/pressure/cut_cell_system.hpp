@@ -29,9 +29,8 @@ namespace shellflow::grid_fluid {
 
 class CutCellSystem {
  public:
-  /// The liquid: φ at each cell centre as the cell's slot part sees it (φ <= 0: liquid), and
-  /// at each part of CellParts::parts() (read for the extras; a far part's φ at the centre,
-  /// its virtual node).
+  /// The liquid: φ at each whole cell's centre (φ <= 0: liquid), and at each part of
+  /// CellParts::parts(), its virtual node (the centre; a slot's replaces its cell's).
   struct Liquid {
     std::span<const double> cell_phi;
     std::span<const double> part_phi;
