@@ -129,7 +129,7 @@ void GridFluid::report(sdk::Metrics& out) const {
     out.set("kinetic_energy", 0.5 * m_density * sum * dx * dx * dx);
   }
   out.set("t_pressure", m_t_pressure);
-  out.set("max_speed", m_mac.max_face_speed());
+  out.set("max_speed", max_flow_speed());
   const auto& c = m_stats.coupling;
   out.set("coupling_faces", static_cast<double>(c.coupled_faces));
   out.set("coupling_rigid_faces", static_cast<double>(c.rigid_faces));

@@ -188,9 +188,13 @@ void GridFluid::refresh_nodes(sdk::ShellSet shells) {
   m_nodes_current = true;
 }
 
+double GridFluid::max_flow_speed() const {
+  const double faces = m_mac.max_face_speed();
+  return m_cut_water ? std::max(faces, m_cut_water->max_fragment_speed()) : faces;
+}
+
 double GridFluid::stable_dt(double cfl) const {
-  double speed =
-      std::max(m_prescribed ? m_prescribed_speed : m_mac.max_face_speed(), m_shell_speed);
+  double speed = std::max(m_prescribed ? m_prescribed_speed : max_flow_speed(), m_shell_speed);
   for (const auto& s : m_sources)
     if (s.velocity() && s.active(m_time)) speed = std::max(speed, s.velocity()->norm());
   if (m_liquid)
@@ -249,7 +253,7 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   const ShellGeometry& geom_n = m_geometry_n ? *m_geometry_n : none;
 
   // Shell band: every node whose ray (≤ Δt max|u|) or stencil may reach a shell (§3, §4.1).
-  double speed = m_mac.max_face_speed();
+  double speed = max_flow_speed();
   for (const auto& s : shells_n)
     if (s.velocities.rows() > 0) speed = std::max(speed, s.velocities.rowwise().norm().maxCoeff());
   build_band(shells_n, shells_np1, m_advector.band_margin(dt, speed));

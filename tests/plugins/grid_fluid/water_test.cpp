@@ -27,7 +27,7 @@ nlohmann::json water_params(int resolution, nlohmann::json water, double toleran
 }
 
 double max_face_speed(const GridFluid& f) {
-  return f.mac().max_face_speed();
+  return f.max_flow_speed();
 }
 
 using test::run_for;

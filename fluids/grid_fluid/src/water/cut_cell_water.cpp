@@ -42,8 +42,9 @@ void CutCellWater::update(sdk::ShellSet shells, const ShellGeometry& geometry, c
     for (const FaceSplit& split : m_parts->split_faces(a))
       for (int k = 0; k < split.count; ++k)
         m_fragments[a][split.first + k] = mac.face_velocity(a)[split.face];
+  m_projected = m_fragments;
   m_cut_faces = CutFaces{m_parts.get(), &m_fragments};
-  fraction.set_cut_cells(m_parts.get(), &m_fragments);
+  fraction.set_cut_cells(m_parts.get(), &m_projected);
   share_water(geometry, level_set, fraction);
 }
 
@@ -228,16 +229,27 @@ std::optional<CutCellWater::FilmSurface> CutCellWater::film_surface(const ShellG
   return film;
 }
 
+double CutCellWater::max_fragment_speed() const {
+  double fastest = 0.0;
+  for (const auto& list : m_fragments)
+    for (const double v : list) fastest = std::max(fastest, std::abs(v));
+  return fastest;
+}
+
 void CutCellWater::extrapolate_fragments(const MacGrid& mac, std::span<const double> cell_phi) {
-  const auto liquid = [&](std::int32_t part, std::int64_t cell) {
-    return part >= 0 ? m_part_phi[part] <= 0.0 : cell_phi[cell] <= 0.0;
+  m_projected = m_fragments;  // F moves with the projection's divergence-free fragments
+  // As a face's (Liquid::extrapolate): a fragment whose two ends' mean φ is water keeps the
+  // projection's value; one nearer the air (θ < ½ beside a liquid part, where the ghost-fluid
+  // update grows as 1/θ) takes its face's extrapolated velocity.
+  const auto phi = [&](std::int32_t part, std::int64_t cell) {
+    return part >= 0 ? m_part_phi[part] : cell_phi[cell];
   };  // a whole cell's φ is the level set's
   for (int a = 0; a < 3; ++a) {
     for (const FaceSplit& split : m_parts->split_faces(a)) {
       const auto [minus, plus] = cells_beside(m_grid, a, split.face);
       const auto list = m_parts->fragments_of(a, split);
       for (size_t k = 0; k < list.size(); ++k)
-        if (!liquid(list[k].minus, minus) && !liquid(list[k].plus, plus))
+        if (phi(list[k].minus, minus) + phi(list[k].plus, plus) > 0.0)
           m_fragments[a][split.first + k] = mac.face_velocity(a)[split.face];
     }
   }

@@ -75,6 +75,8 @@ class GridFluid final : public sdk::FluidSolver {
   GridFluid(const nlohmann::json& params, const sdk::Context& context);
 
   double stable_dt(double cfl) const override;
+  /// The fastest face, or fragment of a cut cell's face [m/s].
+  double max_flow_speed() const;
   void start(double dt, sdk::ShellSet shells,
              std::span<const sdk::Positions> effective_velocity) override;
   void advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSet shells_np1) override;

@@ -43,6 +43,9 @@ class CutCellWater {
   bool ready() const { return m_parts != nullptr; }
   const CellParts& parts() const { return *m_parts; }
   FragmentVelocities& fragments() { return m_fragments; }
+  /// The largest |velocity| of any fragment (0 before the parts are found): water in a far
+  /// part moves with its fragments alone.
+  double max_fragment_speed() const;
   /// The split faces for §4.2's transfers.
   const CutFaces* cut_faces() { return ready() ? &m_cut_faces : nullptr; }
 
@@ -50,8 +53,8 @@ class CutCellWater {
   /// parts held liquid handed to `fraction` (its dilation weights).
   const std::vector<double>& part_phi(const ShellGeometry& geometry,
                                       std::span<const double> cell_phi, VolumeFraction& fraction);
-  /// After the extrapolation of the faces: a fragment with no liquid part takes its face's
-  /// velocity (those beside the water keep the projection's).
+  /// After the extrapolation of the faces: the projection's fragments kept for F; a fragment
+  /// whose ends' mean φ is air takes its face's velocity (those in the water keep theirs).
   void extrapolate_fragments(const MacGrid& mac, std::span<const double> cell_phi);
 
  private:
@@ -75,7 +78,8 @@ class CutCellWater {
   grid::UniformGrid m_grid;
   std::vector<sdk::Positions> m_positions;  ///< the shells the parts were found for
   std::unique_ptr<CellParts> m_parts;
-  FragmentVelocities m_fragments;
+  FragmentVelocities m_fragments;  ///< as the MAC's faces: extrapolated into the air
+  FragmentVelocities m_projected;  ///< the projection's, which F moves with
   CutFaces m_cut_faces;
   std::vector<double> m_part_phi;
 };
