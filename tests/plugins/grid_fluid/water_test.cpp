@@ -289,10 +289,6 @@ INSTANTIATE_TEST_SUITE_P(Layouts, WaterAmongShells,
                          [](const auto& info) { return std::string(info.param); });
 
 TEST_P(WaterAmongShells, PoolAtRestWithAStaticTiltedPlatePiercingTheSurface) {
-  if (std::string(GetParam()) == "cut_cells")
-    GTEST_SKIP() << "cut cells: a tilted plate piercing the surface still stirs the pool "
-                    "(0.55 m/s in 2 s; the level set's samples in the cut cells drift from F's "
-                    "surface; docs/cut-cells.md)";
   auto fluid = test::make_fluid(
       water_params(16, water({{{"type", "pool"}, {"height", 0.41}}}), 1e-10));
   const auto plate =

@@ -707,6 +707,17 @@ void VolumeFraction::fit(const LevelSet& level_set, std::vector<double>& scratch
   m_fraction.swap(scratch);
 }
 
+std::vector<std::pair<std::int64_t, double>> VolumeFraction::cells_whole_water() const {
+  std::vector<std::pair<std::int64_t, double>> whole;
+  if (m_parts == nullptr) return whole;
+  for (size_t p = 0; p < m_parts->parts().size(); ++p) {  // parts in cell order
+    const CellPart& part = m_parts->parts()[p];
+    if (whole.empty() || whole.back().first != part.cell) whole.push_back({part.cell, 0.0});
+    whole.back().second += part.slot ? m_fraction[part.cell] : m_part_fraction[p];
+  }
+  return whole;
+}
+
 void VolumeFraction::correct(LevelSet& level_set, std::vector<double>& scratch, bool signs_only,
                              std::span<const std::uint8_t> left) {
   auto& phi = level_set.phi();
@@ -714,11 +725,19 @@ void VolumeFraction::correct(LevelSet& level_set, std::vector<double>& scratch, 
   const std::int64_t count = m_mac.size(Location::Cell);
   scratch = phi;  // the normals read φ as it was
   std::vector<double>& corrected = scratch;
+  // Cut cells: a cell with parts the correction reaches (no ray between centres crosses its
+  // shells: a corner cut off) reads its whole water, its far parts' with its slot's.
+  const std::vector<std::pair<std::int64_t, double>> whole = cells_whole_water();
   std::int64_t moved = 0, mixed = 0;
 #pragma omp parallel for schedule(static) reduction(+ : moved, mixed)
   for (std::int64_t c = 0; c < count; ++c) {
     if (!left.empty() && left[c] != 0) continue;
-    const double fraction = m_fraction[c];
+    double fraction = m_fraction[c];
+    if (!m_cut_cell.empty() && m_cut_cell[c] != 0)
+      fraction =
+          std::lower_bound(whole.begin(), whole.end(), c, [](const auto& entry, std::int64_t cell) {
+            return entry.first < cell;
+          })->second;
     if (fraction <= kFullOrEmpty) {
       if (phi[c] <= 0.0) corrected[c] = 0.5 * dx, ++moved;  // F holds none: air
       continue;

@@ -132,6 +132,8 @@ class VolumeFraction {
                                    const Eigen::Vector3d& lo, const Eigen::Vector3d& hi);
 
  private:
+  /// Each cell with parts and its whole water (slot and far parts), in cell order.
+  std::vector<std::pair<std::int64_t, double>> cells_whole_water() const;
   /// The faces along `axis` whose velocity F moves with differs from `mac`'s: the kept ones,
   /// with the cut faces' shares over them, as (face, velocity) in face order.
   std::vector<std::pair<std::int64_t, double>> moved_faces(int axis, const MacGrid& mac) const;
