@@ -304,6 +304,26 @@ TEST_P(WaterAmongShells, PoolAtRestWithAStaticTiltedPlatePiercingTheSurface) {
   EXPECT_NEAR(surface_height(*fluid, 0.85, 0.5), h0, 1e-3 * dx);
 }
 
+// Two plates crossing below and through the surface (shells that meet: cells of three or four
+// parts, pockets between the plates that reach no whole cell): still water stays still, as
+// beside one plate.
+TEST_P(WaterAmongShells, PoolAtRestPiercedByTwoCrossingPlates) {
+  auto fluid =
+      test::make_fluid(water_params(16, water({{{"type", "pool"}, {"height", 0.41}}}), 1e-10));
+  const auto a =
+      test::make_plate({0.5, 0.45, 0.52}, Eigen::Vector3d(1.0, 0.3, -0.4).normalized(), 0.6, 7);
+  const auto b =
+      test::make_plate({0.47, 0.43, 0.5}, Eigen::Vector3d(-0.8, 0.5, 0.3).normalized(), 0.6, 9);
+  const std::vector<sdk::ShellSurface> shells{a, b};
+  const std::vector<sdk::Positions> v_eff{a.velocities, b.velocities};
+  const double dx = fluid->grid().dx();
+  const double h0 = surface_height(*fluid, 0.15, 0.5);
+  run_steps(*fluid, 100, 0.01, shells, v_eff);  // a pocket read as air stirred 0.04 m/s by 0.2 s
+  EXPECT_LE(max_face_speed(*fluid), 1e-8);      // the still pool's bound
+  EXPECT_NEAR(surface_height(*fluid, 0.15, 0.5), h0, 1e-3 * dx);
+  EXPECT_NEAR(surface_height(*fluid, 0.85, 0.5), h0, 1e-3 * dx);
+}
+
 /// A thin plate x = 0.5 spanning the tank (a little beyond its walls) seals it.
 sdk::ShellSurface dam_plate(double x) {
   return test::make_plate({x, 0.5, 0.5}, Eigen::Vector3d::UnitX(), 1.2, 9);

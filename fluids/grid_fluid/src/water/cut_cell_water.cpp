@@ -104,58 +104,9 @@ const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
                                                   VolumeFraction& fraction) {
   const auto parts = m_parts->parts();
   const double dx = m_grid.dx();
-  m_part_phi.resize(parts.size());
   std::vector<std::uint8_t> liquid(parts.size(), 0);
-  // The level set's samples on each extra part's side: its fragments' other cells, whole or
-  // slots (a deep part's water meets them; a film's does not).
-  struct Side {
-    double sum = 0.0;
-    int count = 0;
-  };
-  std::vector<Side> side(parts.size());
-  for (int a = 0; a < 3; ++a) {
-    const Location loc = face_location(a);
-    for (const FaceSplit& split : m_parts->split_faces(a)) {
-      const Eigen::Vector3i ijk = m_grid.coordinates(loc, split.face);
-      const auto cells = cells_beside(m_grid, a, split.face);
-      Eigen::Vector3i below = ijk;
-      below[a] -= 1;
-      // The sample one cell farther on, for φ's slope along the axis (none at the sides).
-      std::int64_t farther[2] = {-1, -1};
-      if (below[a] > 0) {
-        Eigen::Vector3i f = below;
-        f[a] -= 1;
-        farther[0] = m_grid.index(Location::Cell, f);
-      }
-      if (ijk[a] + 1 < m_grid.cells()[a]) {
-        Eigen::Vector3i f = ijk;
-        f[a] += 1;
-        farther[1] = m_grid.index(Location::Cell, f);
-      }
-      for (const FaceFragment& fragment : m_parts->fragments_of(a, split)) {
-        const std::int32_t ends[2] = {fragment.minus, fragment.plus};
-        for (int e = 0; e < 2; ++e) {
-          const std::int32_t mine = ends[e], other = ends[1 - e];
-          if (mine < 0 || parts[mine].slot || (other >= 0 && !parts[other].slot)) continue;
-          // φ continued linearly from the neighbour and the sample beyond it (exact for a
-          // plane surface: a signed distance).
-          const double phi = cell_phi[cells[1 - e]];
-          const std::int64_t far = farther[1 - e];
-          side[mine].sum += far >= 0 ? 2.0 * phi - cell_phi[far] : phi;
-          ++side[mine].count;
-        }
-      }
-    }
-  }
-  // The level set's φ at each virtual node: a slot's sample, an extra's side continued.
-  for (size_t p = 0; p < parts.size(); ++p) {
-    const CellPart& part = parts[p];
-    if (part.slot)
-      m_part_phi[p] = cell_phi[part.cell];
-    else
-      m_part_phi[p] = side[p].count > 0 ? side[p].sum / side[p].count : 0.5 * dx;
-    liquid[p] = m_part_phi[p] <= 0.0 ? 1 : 0;
-  }
+  continue_level_set(cell_phi);
+  for (size_t p = 0; p < parts.size(); ++p) liquid[p] = m_part_phi[p] <= 0.0 ? 1 : 0;
   // Water the level set shows as air with no liquid beside it on its side is a film it lost:
   // liquid, its φ from the film's plane (a part holding a little of a deep neighbour's surface
   // is that surface's, as a whole cell would be).
@@ -173,6 +124,70 @@ const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
   }
   fraction.set_liquid_parts(std::move(liquid));
   return m_part_phi;
+}
+
+void CutCellWater::continue_level_set(std::span<const double> cell_phi) {
+  const auto parts = m_parts->parts();
+  m_part_phi.resize(parts.size());
+  std::vector<std::uint8_t> known(parts.size(), 0);
+  for (size_t p = 0; p < parts.size(); ++p)
+    if (parts[p].slot) {
+      m_part_phi[p] = cell_phi[parts[p].cell];
+      known[p] = 1;
+    }
+  // Each pass continues φ into the extra parts not yet reached from the parts and whole cells
+  // its fragments reach that are (the first: the whole cells and slots; then a pocket between
+  // shells from the far parts beside it). Along a fragment's axis, φ continued linearly from the
+  // neighbour and the level set's sample beyond it (exact for a plane surface).
+  struct Side {
+    double sum = 0.0;
+    int count = 0;
+  };
+  std::vector<Side> side(parts.size());
+  constexpr int kMostPasses = 8;  // a pocket this many parts from a whole cell stays air
+  for (int pass = 0; pass < kMostPasses; ++pass) {
+    for (int a = 0; a < 3; ++a) {
+      const Location loc = face_location(a);
+      for (const FaceSplit& split : m_parts->split_faces(a)) {
+        const Eigen::Vector3i ijk = m_grid.coordinates(loc, split.face);
+        const auto cells = cells_beside(m_grid, a, split.face);
+        // The samples one cell farther on either side (none at the domain's sides).
+        std::int64_t farther[2] = {-1, -1};
+        if (ijk[a] >= 2) {
+          Eigen::Vector3i f = ijk;
+          f[a] -= 2;
+          farther[0] = m_grid.index(Location::Cell, f);
+        }
+        if (ijk[a] + 1 < m_grid.cells()[a]) {
+          Eigen::Vector3i f = ijk;
+          f[a] += 1;
+          farther[1] = m_grid.index(Location::Cell, f);
+        }
+        for (const FaceFragment& fragment : m_parts->fragments_of(a, split)) {
+          const std::int32_t ends[2] = {fragment.minus, fragment.plus};
+          for (int e = 0; e < 2; ++e) {
+            const std::int32_t mine = ends[e], other = ends[1 - e];
+            if (mine < 0 || known[mine] || (other >= 0 && known[other] != 1)) continue;
+            const double phi = other >= 0 ? m_part_phi[other] : cell_phi[cells[1 - e]];
+            const std::int64_t far = farther[1 - e];
+            side[mine].sum += far >= 0 ? 2.0 * phi - cell_phi[far] : phi;
+            ++side[mine].count;
+          }
+        }
+      }
+    }
+    bool reached = false;
+    for (size_t p = 0; p < parts.size(); ++p)
+      if (!known[p] && side[p].count > 0) {
+        m_part_phi[p] = side[p].sum / side[p].count;
+        known[p] = 2;  // read from the next pass on
+        reached = true;
+      }
+    if (!reached) break;
+    for (auto& k : known) k = k != 0 ? 1 : 0;
+  }
+  for (size_t p = 0; p < parts.size(); ++p)
+    if (!known[p]) m_part_phi[p] = 0.5 * m_grid.dx();  // no water or air reaches it: air
 }
 
 std::vector<std::uint8_t> CutCellWater::liquid_beside(std::span<const double> cell_phi,

@@ -1,16 +1,13 @@
 #pragma once
 // CutCellWater: water on cut cells, `/fluid/water/cut_cells` (issue #52, docs/cut-cells.md):
 // the parts of the cells the shells cut (CellParts), the velocities of their faces'
-// fragments, and each part's φ at its virtual node for the projection on parts. For still
-// shells for now: the parts are found once, and shells that move are refused.
-// A part's φ (docs/cut-cells.md, W1): a slot's is its cell's, the level set's sample at the
-// centre it holds. An extra part has no sample of its own. Holding water beside the level
-// set's water on its side (the cells its fragments reach, whole or slots), it takes their
-// mean φ (a deep part by a shell that stands in the water); holding water with none beside
-// it, a film, its φ is the distance from the centre (its virtual node) to the plane parallel
-// to its shell that holds the water against the shell (the film's surface placed exactly, in
-// water at any thickness). Without water it is air: its side's mean φ where that is air too,
-// else half a cell from the water.
+// fragments, and each part's φ at its virtual node (its cell's centre) for the projection on
+// parts. For still shells for now: the parts are found once, and shells that move are refused.
+// A part's φ (docs/cut-cells.md, "Where it stands"): a slot's is the level set's sample at the
+// centre it holds; an extra part's is the level set continued linearly to the centre from the
+// whole cells and slots its fragments reach (a pocket between shells: from the extra parts
+// beside it). Water the level set shows as air with no liquid beside the part on its side is a
+// film it lost: liquid, its φ from the plane parallel to its shell that holds its water.
 
 #include <memory>
 #include <optional>
@@ -62,6 +59,9 @@ class CutCellWater {
   void share_water(const ShellGeometry& geometry, const LevelSet& level_set,
                    VolumeFraction& fraction) const;
 
+  /// m_part_phi from the level set: a slot's sample at its centre, an extra part's continued
+  /// to its centre from its side (see the file comment).
+  void continue_level_set(std::span<const double> cell_phi);
   /// Whether each part meets a liquid neighbour on its side: across its fragments (a whole
   /// cell by `cell_phi`, a part by `liquid`) or, a slot, across its faces no shell splits.
   std::vector<std::uint8_t> liquid_beside(std::span<const double> cell_phi,
