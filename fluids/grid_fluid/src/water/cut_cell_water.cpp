@@ -131,14 +131,15 @@ void CutCellWater::continue_level_set(std::span<const double> cell_phi) {
   m_part_phi.resize(parts.size());
   std::vector<std::uint8_t> known(parts.size(), 0);
   for (size_t p = 0; p < parts.size(); ++p)
-    if (parts[p].slot) {
+    if (parts[p].holds_centre) {  // a centre on a shell is no part's: its slot is continued
       m_part_phi[p] = cell_phi[parts[p].cell];
       known[p] = 1;
     }
-  // Each pass continues φ into the extra parts not yet reached from the parts and whole cells
-  // its fragments reach that are (the first: the whole cells and slots; then a pocket between
-  // shells from the far parts beside it). Along a fragment's axis, φ continued linearly from the
-  // neighbour and the level set's sample beyond it (exact for a plane surface).
+  // Each pass continues φ into the parts not yet reached from the parts and whole cells its
+  // fragments reach that are (the first: the whole cells and the parts holding their centres;
+  // then a pocket between shells from the far parts beside it). Along a fragment's axis, φ
+  // continued linearly from the neighbour and the level set's sample beyond it (exact for a plane
+  // surface).
   struct Side {
     double sum = 0.0;
     int count = 0;
