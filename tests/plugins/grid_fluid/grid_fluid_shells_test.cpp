@@ -68,6 +68,16 @@ SceneRun load(const std::string& name, const std::function<void(nlohmann::json&)
   return run;
 }
 
+/// Starts a water scene's loop at its frame step and takes its first step, which measures the
+/// water it starts with: returns that volume [m^3].
+double start_water_scene(SceneRun& run) {
+  const double dt0 = 1.0 / run.scene.time.fps;
+  run.loop->start(0.0, dt0);
+  run.loop->step(run.loop->next_dt(dt0), dt0);
+  return test::reported(*run.fluid, "water_volume") -
+         test::reported(*run.fluid, "water_volume_change");
+}
+
 TEST(GridFluidShells, StillAirAroundAStaticTiltedShellStaysStill) {
   auto fluid = test::make_fluid({{"resolution", 16}, {"smoke", {{"vorticity_confinement", 0.3}}}});
   const auto plate =
@@ -314,10 +324,8 @@ TEST(GridFluidShellsSlow, WaterInAShakenCupMakesNoWater) {
     fluid["water"]["particles"]["per_cell"] = 0;
   });
   const double dt0 = 1.0 / run.scene.time.fps;
-  run.loop->start(0.0, dt0);
+  const double v0 = start_water_scene(run);
   const auto volume = [&] { return test::reported(*run.fluid, "water_volume"); };
-  run.loop->step(run.loop->next_dt(dt0), dt0);  // the first step measures the start's water
-  const double v0 = volume() - test::reported(*run.fluid, "water_volume_change");
   double lowest = v0, highest = v0;
   while (run.loop->time() < 5.0 - 1e-9) {
     run.loop->step(run.loop->next_dt(dt0), dt0);
@@ -344,10 +352,8 @@ TEST(GridFluidShellsSlow, ASheetOnATiltedPlateOnCutCellsKeepsItsWater) {
     fluid["water"]["particles"]["per_cell"] = 0;
   });
   const double dt0 = 1.0 / run.scene.time.fps;
-  run.loop->start(0.0, dt0);
+  const double v0 = start_water_scene(run);
   const auto volume = [&] { return test::reported(*run.fluid, "water_volume"); };
-  run.loop->step(run.loop->next_dt(dt0), dt0);  // the first step measures the start's water
-  const double v0 = volume() - test::reported(*run.fluid, "water_volume_change");
   double fastest = 0.0, worst = 0.0;
   while (run.loop->time() < 1.0 - 1e-9) {
     run.loop->step(run.loop->next_dt(dt0), dt0);
