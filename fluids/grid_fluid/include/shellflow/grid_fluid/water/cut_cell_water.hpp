@@ -59,8 +59,9 @@ class CutCellWater {
   void share_water(const ShellGeometry& geometry, const LevelSet& level_set,
                    VolumeFraction& fraction) const;
 
-  /// m_part_phi from the level set: a slot's sample at its centre, an extra part's continued
-  /// to its centre from its side (see the file comment).
+  /// m_part_phi from the level set: a slot's sample at the centre it holds; any other part's
+  /// (an extra part, a slot whose centre lies on a shell) continued to the centre from its side
+  /// (see the file comment).
   void continue_level_set(std::span<const double> cell_phi);
   /// Whether each part meets a liquid neighbour on its side: across its fragments (a whole
   /// cell by `cell_phi`, a part by `liquid`) or, a slot, across its faces no shell splits.
