@@ -192,7 +192,7 @@ void CutCellWater::continue_level_set(std::span<const double> cell_phi) {
 }
 
 std::vector<std::uint8_t> CutCellWater::liquid_beside(std::span<const double> cell_phi,
-                                                       std::span<const std::uint8_t> liquid) const {
+                                                      std::span<const std::uint8_t> liquid) const {
   const auto parts = m_parts->parts();
   std::vector<std::uint8_t> beside(parts.size(), 0);
   const auto liquid_at = [&](std::int32_t part, std::int64_t cell) {
@@ -224,8 +224,8 @@ std::vector<std::uint8_t> CutCellWater::liquid_beside(std::span<const double> ce
 }
 
 std::optional<CutCellWater::FilmSurface> CutCellWater::film_surface(const ShellGeometry& geometry,
-                                                                   const CellPart& part,
-                                                                   double water) const {
+                                                                    const CellPart& part,
+                                                                    double water) const {
   const double dx = m_grid.dx();
   const Eigen::Vector3d centre = m_grid.position(Location::Cell, part.cell);
   const auto contact = geometry.nearest(centre, std::sqrt(3.0) * dx, centre);
