@@ -190,7 +190,8 @@ void GridFluid::refresh_nodes(sdk::ShellSet shells) {
 
 double GridFluid::max_flow_speed() const {
   const double faces = m_mac.max_face_speed();
-  return m_cut_water ? std::max(faces, m_cut_water->max_fragment_speed()) : faces;
+  // Water in a far part moves with its fragments alone.
+  return m_cut_water ? std::max(faces, max_fragment_speed(m_cut_water->fragments())) : faces;
 }
 
 double GridFluid::stable_dt(double cfl) const {

@@ -187,6 +187,13 @@ std::array<std::int64_t, 2> cells_beside(const grid::UniformGrid& grid, int axis
           ijk[axis] < grid.cells()[axis] ? grid.index(Location::Cell, ijk) : -1};
 }
 
+double max_fragment_speed(const FragmentVelocities& fragments) {
+  double fastest = 0.0;
+  for (const auto& list : fragments)
+    for (const double v : list) fastest = std::max(fastest, std::abs(v));
+  return fastest;
+}
+
 Eigen::Vector3i CellParts::face_corner(int axis, int corner) {
   Eigen::Vector3i offset = Eigen::Vector3i::Zero();
   offset[(axis + 1) % 3] = corner & 1;

@@ -406,9 +406,7 @@ ProjectionStats PressureProjection::project_parts(MacGrid& mac, FragmentVelociti
   Eigen::VectorXd flux, b, x, total = Eigen::VectorXd::Zero(a.size());
   for (int pass = 0; pass < 3; ++pass) {
     m_parts_system.outward_flux(mac, fragments, flux);
-    double scale = mac.max_face_speed();
-    for (const auto& list : fragments)
-      for (const double v : list) scale = std::max(scale, std::abs(v));
+    const double scale = std::max(mac.max_face_speed(), max_fragment_speed(fragments));
     if (pass > 0 && flux.lpNorm<Eigen::Infinity>() <= m_settings.tolerance * scale) break;
     b = -flux;
     null_space.project(b);

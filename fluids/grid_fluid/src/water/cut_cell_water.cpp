@@ -177,14 +177,16 @@ void CutCellWater::continue_level_set(std::span<const double> cell_phi) {
         }
       }
     }
-    bool reached = false;
+    bool reached = false, unreached = false;
     for (size_t p = 0; p < parts.size(); ++p)
       if (!known[p] && side[p].count > 0) {
         m_part_phi[p] = side[p].sum / side[p].count;
         known[p] = 2;  // read from the next pass on
         reached = true;
+      } else if (!known[p]) {
+        unreached = true;
       }
-    if (!reached) break;
+    if (!reached || !unreached) break;  // most scenes: every part in the first pass
     for (auto& k : known) k = k != 0 ? 1 : 0;
   }
   for (size_t p = 0; p < parts.size(); ++p)
@@ -243,13 +245,6 @@ std::optional<CutCellWater::FilmSurface> CutCellWater::film_surface(const ShellG
   const double beyond = VolumeFraction::box_fraction_below(normal, film.shell, lo, hi);
   film.height = VolumeFraction::plane_height(normal, std::min(beyond + water, 1.0));
   return film;
-}
-
-double CutCellWater::max_fragment_speed() const {
-  double fastest = 0.0;
-  for (const auto& list : m_fragments)
-    for (const double v : list) fastest = std::max(fastest, std::abs(v));
-  return fastest;
 }
 
 void CutCellWater::extrapolate_fragments(const MacGrid& mac, std::span<const double> cell_phi) {

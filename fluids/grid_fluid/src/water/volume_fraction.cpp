@@ -299,9 +299,7 @@ void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, doubl
   double fastest = max_speed;  // the MAC's faces, and those F moves with instead
   for (const auto& faces : m_line_faces)
     for (const LineFace& face : faces) fastest = std::max(fastest, std::abs(face.u));
-  if (m_parts != nullptr)
-    for (const auto& fragments : *m_fragment_velocity)
-      for (const double w : fragments) fastest = std::max(fastest, std::abs(w));
+  if (m_parts != nullptr) fastest = std::max(fastest, max_fragment_speed(*m_fragment_velocity));
   const int parts =
       std::clamp(static_cast<int>(std::ceil(fastest * dt / m_mac.dx() / 0.5)), 1, kMostParts);
   // The dilation term's cells: the liquid cells of φ^n, whose faces the projection made

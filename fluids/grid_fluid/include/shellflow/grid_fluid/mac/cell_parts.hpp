@@ -70,6 +70,9 @@ struct FaceSplit {
 /// face velocity.
 using FragmentVelocities = std::array<std::vector<double>, 3>;
 
+/// The largest |velocity| of any fragment (0 for none).
+double max_fragment_speed(const FragmentVelocities& fragments);
+
 class CellParts {
  public:
   /// No shells: every cell whole, every face open.

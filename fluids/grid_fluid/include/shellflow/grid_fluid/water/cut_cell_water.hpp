@@ -40,9 +40,7 @@ class CutCellWater {
   bool ready() const { return m_parts != nullptr; }
   const CellParts& parts() const { return *m_parts; }
   FragmentVelocities& fragments() { return m_fragments; }
-  /// The largest |velocity| of any fragment (0 before the parts are found): water in a far
-  /// part moves with its fragments alone.
-  double max_fragment_speed() const;
+  const FragmentVelocities& fragments() const { return m_fragments; }
   /// The split faces for §4.2's transfers.
   const CutFaces* cut_faces() { return ready() ? &m_cut_faces : nullptr; }
 
