@@ -344,8 +344,8 @@ TEST(GridFluidShellsSlow, WaterInAShakenCupMakesNoWater) {
 // Cut cells (issue #52): configs/verify/water_sheet_on_tilted_plate (48 cells, a sheet two
 // cells thick sliding down a plate tilted 20 degrees across a closed tank) with
 // /fluid/water/cut_cells on (no particles: not on cut cells yet). The issue's bounds: the water
-// drifts by at most 1 % over the second (5.5e-6 on 7 Dec 2026), and no water moves faster than
-// 3 √(2 g H), H = 1 m the tank's height.
+// drifts by at most 1 % over the second (what it drifts: docs/measured-figures.md), and no
+// water moves faster than 3 √(2 g H), H = 1 m the tank's height.
 TEST(GridFluidShellsSlow, ASheetOnATiltedPlateOnCutCellsKeepsItsWater) {
   auto run = load("water_sheet_on_tilted_plate.json", [](nlohmann::json& fluid) {
     fluid["water"]["cut_cells"] = true;

@@ -318,7 +318,7 @@ TEST_P(WaterAmongShells, PoolAtRestPiercedByTwoCrossingPlates) {
   const std::vector<sdk::Positions> v_eff{a.velocities, b.velocities};
   const double dx = fluid->grid().dx();
   const double h0 = surface_height(*fluid, 0.15, 0.5);
-  run_steps(*fluid, 100, 0.01, shells, v_eff);  // a pocket read as air stirred 0.04 m/s by 0.2 s
+  run_steps(*fluid, 100, 0.01, shells, v_eff);  // long enough for a misread pocket to stir it
   EXPECT_LE(max_face_speed(*fluid), 1e-8);      // the still pool's bound
   EXPECT_NEAR(surface_height(*fluid, 0.15, 0.5), h0, 1e-3 * dx);
   EXPECT_NEAR(surface_height(*fluid, 0.85, 0.5), h0, 1e-3 * dx);
@@ -472,9 +472,8 @@ WaterAboutAPlate water_about_a_plate(const GridFluid& fluid, const CellParts& pa
 // beyond, at rest. Its parts hold a pressure, so the step spreads as a shallow-water dam break
 // would: Ritter's flux at the step, (8/27) √g h^{3/2} (a dry bed's; a wet bed a quarter as deep
 // passes 1 % less), over 0.5 s carries 13.8 % of the thick half's excess across. Between a
-// third of it and twice it must go (a wave a few cells long on this grid; 12.5 to 17 % went on
-// 7 Dec 2026). Read as air, the film has no velocity and none goes (0 % at 0.68 with the
-// slots' film rule taken out).
+// third of it and twice it must go (the wave is a few cells long on this grid; what went:
+// docs/measured-figures.md). Read as air, the film has no velocity and none goes.
 // Its water is kept to 1e-12, all above the plate. (A plate in a plane of faces, 0.5, cuts no
 // cell: its film is a floor's, docs/known-limits.md.)
 TEST(WaterOnCutCells, AStepInAFilmSpreadsOnEitherSideOfAPlate) {
