@@ -238,7 +238,22 @@ void GridFluid::start(double dt, sdk::ShellSet shells,
       impulse[s] = effective_velocity[s] - shells[s].velocities;
     moving = moving || !impulse[s].isZero(0.0);
   }
-  if (moving) project_against(m_geometry_n, dt, shells, impulse);
+  if (!moving) return;
+  // The water settles among the shells before its first projection (cut cells find their
+  // parts there, with the water as it will stay).
+  ensure_geometry(m_geometry_n, shells);
+  build_band(shells, shells, 2.0 * m_mac.dx());
+  settle_water(*m_geometry_n, m_band_used ? &m_band : nullptr);
+  project_against(m_geometry_n, dt, shells, impulse);
+}
+
+void GridFluid::settle_water(const ShellGeometry& shells, const geometry::ShellBand* band) {
+  // The volume water_volume_change counts from: measured as water_volume is, against the
+  // shells of the first step (a film on a shell counts only with them).
+  if (m_liquid && !m_liquid->initial_volume_measured()) {
+    m_liquid->settle_among_shells(shells, band);
+    m_liquid->measure_initial_volume(&shells, band);
+  }
 }
 
 void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSet shells_np1) {
@@ -260,14 +275,10 @@ void GridFluid::advect(double t, double dt, sdk::ShellSet shells_n, sdk::ShellSe
   build_band(shells_n, shells_np1, m_advector.band_margin(dt, speed));
   const geometry::ShellBand* band = m_band_used ? &m_band : nullptr;
   m_stats.band_nodes = band ? static_cast<std::int64_t>(band->samples(Location::Node).size()) : 0;
-  // The volume water_volume_change counts from: measured as water_volume is, against the
-  // shells of the first step (a film on a shell counts only with them).
-  if (m_liquid && !m_liquid->initial_volume_measured()) {
-    m_liquid->settle_among_shells(geom_n, band);
-    m_liquid->measure_initial_volume(&geom_n, band);
-  }
-  if (m_cut_water && shells)
-    m_cut_water->update(shells_n, geom_n, m_mac, m_liquid->level_set(), m_liquid->fraction());
+  settle_water(geom_n, band);
+  if (m_cut_water && shells)  // the parts are the last projection's but at the first step
+    m_cut_water->update(shells_n, geom_n, nullptr, m_mac, m_liquid->level_set(),
+                        m_liquid->fraction());
 
   if (m_prescribed) {
     // The field at the middle of the step carries φ and the particles; nothing else moves.
@@ -432,12 +443,15 @@ void GridFluid::project_against(std::unique_ptr<ShellGeometry>& geometry, double
   const auto start = std::chrono::steady_clock::now();
   const bool parts = m_cut_water && have_shells;
   if (parts) {
-    m_cut_water->update(shells, geom, m_mac, m_liquid->level_set(), m_liquid->fraction());
+    // The shells moved since the parts were found for m_geometry_n (the step's start).
+    const ShellGeometry* previous = &geometry != &m_geometry_n ? m_geometry_n.get() : nullptr;
+    m_cut_water->update(shells, geom, previous, m_mac, m_liquid->level_set(),
+                        m_liquid->fraction());
     const FreeSurface& surface = m_liquid->surface();
     const auto& part_phi = m_cut_water->part_phi(geom, surface.cell_phi, m_liquid->fraction());
     m_stats.projection = m_projection.project_parts(
         m_mac, m_cut_water->fragments(), dt, m_boundary, geom, m_cut_water->parts(),
-        {surface.cell_phi, part_phi, surface.ghost_fluid});
+        {surface.cell_phi, part_phi, surface.ghost_fluid}, m_cut_water->shell_flux(geom));
   } else {
     m_stats.projection = m_projection.project(m_mac, dt, m_boundary, geom, band,
                                               m_liquid ? &m_liquid->surface() : nullptr);

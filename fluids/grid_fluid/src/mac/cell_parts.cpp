@@ -194,6 +194,19 @@ double max_fragment_speed(const FragmentVelocities& fragments) {
   return fastest;
 }
 
+double CellParts::max_filling_speed(const FragmentVelocities& fragments, double smallest) const {
+  double fastest = 0.0;
+  const auto volume = [&](std::int32_t part) { return part >= 0 ? m_parts[part].volume : 1.0; };
+  for (int a = 0; a < 3; ++a)
+    for (const FaceSplit& split : m_splits[a])
+      for (int k = 0; k < split.count; ++k) {
+        const FaceFragment& f = m_fragments[a][split.first + k];
+        const double room = std::max(std::min(volume(f.minus), volume(f.plus)), smallest);
+        fastest = std::max(fastest, std::abs(fragments[a][split.first + k]) * f.aperture / room);
+      }
+  return fastest;
+}
+
 Eigen::Vector3i CellParts::face_corner(int axis, int corner) {
   Eigen::Vector3i offset = Eigen::Vector3i::Zero();
   offset[(axis + 1) % 3] = corner & 1;

@@ -25,7 +25,8 @@ void for_each_face(const grid::UniformGrid& grid, int axis, F&& f) {
 }  // namespace
 
 void CutCellSystem::build(const grid::UniformGrid& grid, const CellParts& parts,
-                          const DomainBoundary& boundary, const Liquid& water) {
+                          const DomainBoundary& boundary, const Liquid& water,
+                          std::span<const Eigen::Vector3d> shell_flux) {
   m_grid = grid;
   m_parts = &parts;
   m_ghost_fluid = water.ghost_fluid;
@@ -94,6 +95,9 @@ void CutCellSystem::build(const grid::UniformGrid& grid, const CellParts& parts,
     }
   }
   m_laplacian.set_parts(std::move(extra_cell), links);
+  m_shell_flux.clear();
+  for (size_t p = 0; p < shell_flux.size(); ++p)
+    if (const double q = shell_flux[p].sum(); q != 0.0) m_shell_flux.push_back({m_part_unknown[p], q});
 }
 
 std::pair<int, int> CutCellSystem::fragment_unknowns(int axis, std::int64_t face,
@@ -133,6 +137,7 @@ void CutCellSystem::outward_flux(const MacGrid& mac, const FragmentVelocities& f
       }
     }
   }
+  for (const auto& [u, q] : m_shell_flux) flux[u] += q;
   for (int u = 0; u < m_laplacian.size(); ++u)
     if (!liquid(u)) flux[u] = 0.0;
 }

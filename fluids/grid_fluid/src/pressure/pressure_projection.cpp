@@ -363,7 +363,8 @@ ProjectionStats PressureProjection::project_parts(MacGrid& mac, FragmentVelociti
                                                   double dt, const DomainBoundary& boundary,
                                                   const ShellGeometry& shells,
                                                   const CellParts& parts,
-                                                  const CutCellSystem::Liquid& water) {
+                                                  const CutCellSystem::Liquid& water,
+                                                  std::span<const Eigen::Vector3d> shell_flux) {
   ProjectionStats stats;
   apply_boundary_velocities(mac, boundary);
   m_apertures.clear();
@@ -390,7 +391,7 @@ ProjectionStats PressureProjection::project_parts(MacGrid& mac, FragmentVelociti
       mac.face_velocity(a)[split.face] = shells.object_velocity(below, above)[a];
     }
   }
-  m_parts_system.build(m_grid, parts, boundary, water);
+  m_parts_system.build(m_grid, parts, boundary, water, shell_flux);
   m_regions.region.assign(cells, -1);
   std::int64_t liquid = 0;
   for (std::int64_t c = 0; c < cells; ++c)

@@ -4,6 +4,8 @@
 
 #include <Eigen/Geometry>
 
+#include "shellflow/geometry/convex_polygon.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -13,25 +15,6 @@
 namespace shellflow::grid_fluid {
 
 namespace {
-
-/// A convex polygon in 3D: a triangle clipped by axis-aligned planes (at most 7 corners).
-struct Polygon {
-  std::array<Eigen::Vector3d, 8> corner;
-  int count = 0;
-};
-
-/// The part of `in` with sign · (x_axis − plane) ≥ 0 (Sutherland–Hodgman, one plane).
-Polygon clip(const Polygon& in, int axis, double plane, double sign) {
-  Polygon out;
-  for (int i = 0; i < in.count; ++i) {
-    const Eigen::Vector3d& p = in.corner[i];
-    const Eigen::Vector3d& q = in.corner[(i + 1) % in.count];
-    const double dp = sign * (p[axis] - plane), dq = sign * (q[axis] - plane);
-    if (dp >= 0.0) out.corner[out.count++] = p;
-    if ((dp >= 0.0) != (dq >= 0.0)) out.corner[out.count++] = p + dp / (dp - dq) * (q - p);
-  }
-  return out;
-}
 
 std::int64_t column_key(int b, int c) {
   return static_cast<std::int64_t>((static_cast<std::uint64_t>(static_cast<std::uint32_t>(b)) << 32) |
@@ -100,9 +83,8 @@ std::vector<RigidFacePieces> rigid_face_pieces(const grid::UniformGrid& grid,
     return best;
   };
   for (int t = 0; t < shell.triangle_count(); ++t) {
-    Polygon tri;
-    tri.count = 3;
-    for (int v = 0; v < 3; ++v) tri.corner[v] = corner(t, v);
+    const geometry::ConvexPolygon tri =
+        geometry::ConvexPolygon::triangle({corner(t, 0), corner(t, 1), corner(t, 2)});
     const Eigen::Vector3d twice_area = (tri.corner[1] - tri.corner[0]).cross(tri.corner[2] - tri.corner[0]);
     if (twice_area.squaredNorm() == 0.0) continue;
     const Eigen::Vector3d n = twice_area.normalized();
@@ -133,28 +115,18 @@ std::vector<RigidFacePieces> rigid_face_pieces(const grid::UniformGrid& grid,
     }
     for (int i = first[b]; i <= last[b]; ++i) {
       const double bl = origin[b] + i * dx;
-      const Polygon strip = clip(clip(tri, b, bl, 1.0), b, bl + dx, -1.0);
+      const geometry::ConvexPolygon strip = geometry::clip(geometry::clip(tri, b, bl, 1.0), b, bl + dx, -1.0);
       if (strip.count < 3) continue;
       for (int j = first[c]; j <= last[c]; ++j) {
         const double cl = origin[c] + j * dx;
-        const Polygon bar = clip(clip(strip, c, cl, 1.0), c, cl + dx, -1.0);
+        const geometry::ConvexPolygon bar = geometry::clip(geometry::clip(strip, c, cl, 1.0), c, cl + dx, -1.0);
         if (bar.count < 3) continue;
         for (int l = first[a]; l <= last[a]; ++l) {
           const double al = origin[a] + l * dx;
-          const Polygon piece = clip(clip(bar, a, al, 1.0), a, al + dx, -1.0);
+          const geometry::ConvexPolygon piece = geometry::clip(geometry::clip(bar, a, al, 1.0), a, al + dx, -1.0);
           if (piece.count < 3) continue;
-          // Area and centroid by the fan from the first corner (a convex piece of a plane).
-          double area = 0.0;
-          Eigen::Vector3d first_moment = Eigen::Vector3d::Zero();
-          for (int v = 1; v + 1 < piece.count; ++v) {
-            const double w = 0.5 * (piece.corner[v] - piece.corner[0])
-                                       .cross(piece.corner[v + 1] - piece.corner[0])
-                                       .norm();
-            area += w;
-            first_moment += w * (piece.corner[0] + piece.corner[v] + piece.corner[v + 1]) / 3.0;
-          }
+          const auto [area, centroid] = geometry::moments(piece);
           if (area == 0.0) continue;
-          const Eigen::Vector3d centroid = first_moment / area;
           int best = -1;
           double distance = std::numeric_limits<double>::infinity();
           nearest_cut(a, i, j, centroid, n, best, distance);

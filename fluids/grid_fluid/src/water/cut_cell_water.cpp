@@ -1,11 +1,13 @@
 #include "shellflow/grid_fluid/water/cut_cell_water.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <optional>
 
 #include "shellflow/geometry/triangle_mesh.hpp"
 #include "shellflow/grid_fluid/water/level_set_advector.hpp"
+#include "shellflow/grid_fluid/water/part_water_motion.hpp"
 #include "shellflow/sdk/error.hpp"
 
 namespace shellflow::grid_fluid {
@@ -18,38 +20,87 @@ namespace {
 constexpr double kFilm = 1e-3;
 }  // namespace
 
-void CutCellWater::update(sdk::ShellSet shells, const ShellGeometry& geometry, const MacGrid& mac,
+void CutCellWater::update(sdk::ShellSet shells, const ShellGeometry& geometry,
+                          const ShellGeometry* previous, const MacGrid& mac,
                           const LevelSet& level_set, VolumeFraction& fraction) {
   if (m_parts) {
     bool still = shells.size() == m_positions.size();
     for (size_t s = 0; still && s < shells.size(); ++s)
       still = shells[s].positions.rows() == m_positions[s].rows() &&
               (shells[s].positions.array() == m_positions[s].array()).all();
-    if (!still)
+    if (still) return;
+    if (previous == nullptr)
       throw Error(
-          "/fluid/water/cut_cells: a shell moved; cut cells follow still shells only for now "
-          "(docs/cut-cells.md, W3). Set /fluid/water/cut_cells to false for this scene.");
-    return;
+          "/fluid/water/cut_cells: the shells moved between two steps of the fluid (a step "
+          "began where the last one did not end); the parts' water cannot be carried");
   }
   geometry::ShellBand band(m_grid);
+  m_positions.clear();
   for (const auto& shell : shells) {
     m_positions.push_back(shell.positions);
     if (shell.triangle_count() > 0) band.add(geometry::TriangleMesh(shell), 2.0 * m_grid.dx());
   }
+  std::unique_ptr<CellParts> before = std::move(m_parts);
   m_parts = std::make_unique<CellParts>(geometry, band);
-  m_fragments = m_parts->still_fragments();
-  for (int a = 0; a < 3; ++a)
-    for (const FaceSplit& split : m_parts->split_faces(a))
-      for (int k = 0; k < split.count; ++k)
-        m_fragments[a][split.first + k] = mac.face_velocity(a)[split.face];
+  m_pieces = shell_pieces(geometry, m_grid, *m_parts);
+  m_shell_flux.assign(m_parts->parts().size(), Eigen::Vector3d::Zero());
+  std::vector<double> water;  // each old part's, its cell's slot emptied
+  if (before) {
+    const auto old = before->parts();
+    water.resize(old.size());
+    for (size_t p = 0; p < old.size(); ++p)
+      water[p] = old[p].slot ? fraction.values()[old[p].cell] : fraction.part_values()[p];
+    for (const CellPart& part : old)
+      if (part.slot) fraction.values()[part.cell] = 0.0;
+    m_fragments = carry_fragments(*before, mac);
+  } else {
+    m_fragments = m_parts->still_fragments();
+    for (int a = 0; a < 3; ++a)
+      for (const FaceSplit& split : m_parts->split_faces(a))
+        for (int k = 0; k < split.count; ++k)
+          m_fragments[a][split.first + k] = mac.face_velocity(a)[split.face];
+  }
   m_projected = m_fragments;
   m_cut_faces = CutFaces{m_parts.get(), &m_fragments};
-  fraction.set_cut_cells(m_parts.get(), &m_projected);
-  share_water(geometry, level_set, fraction);
+  fraction.set_cut_cells(m_parts.get(), &m_projected, &m_shell_flux);
+  share_water(geometry, level_set, fraction, before.get());
+  if (before)
+    carry_part_water(m_grid, *before, water, *previous, *m_parts, geometry, level_set, fraction);
+
+}
+
+FragmentVelocities CutCellWater::carry_fragments(const CellParts& before,
+                                                 const MacGrid& mac) const {
+  FragmentVelocities carried = m_parts->still_fragments();
+  for (int a = 0; a < 3; ++a)
+    for (const FaceSplit& split : m_parts->split_faces(a)) {
+      const FaceSplit* old = before.split(a, split.face);
+      const auto list = m_parts->fragments_of(a, split);
+      for (size_t k = 0; k < list.size(); ++k) {
+        double velocity = mac.face_velocity(a)[split.face];
+        int most = 0;
+        if (old != nullptr)
+          for (int o = 0; o < old->count; ++o) {
+            const auto& fragment = before.fragments_of(a, *old)[o];
+            const int shared = std::popcount(unsigned(fragment.corners & list[k].corners));
+            if (shared > most) {
+              most = shared;
+              velocity = m_fragments[a][old->first + o];
+            }
+          }
+        carried[a][split.first + k] = velocity;
+      }
+    }
+  return carried;
+}
+
+const std::vector<Eigen::Vector3d>& CutCellWater::shell_flux(const ShellGeometry& geometry) {
+  m_shell_flux = grid_fluid::shell_flux(geometry, m_pieces, m_parts->parts().size());
+  return m_shell_flux;
 }
 
 void CutCellWater::share_water(const ShellGeometry& geometry, const LevelSet& level_set,
-                               VolumeFraction& fraction) const {
+                               VolumeFraction& fraction, const CellParts* before) const {
   constexpr int kSamples = 4;
   const double dx = m_grid.dx(), h = dx / kSamples;  // the samples' spacing
   const auto all = m_parts->parts();
@@ -61,7 +112,7 @@ void CutCellWater::share_water(const ShellGeometry& geometry, const LevelSet& le
     size_t last = first;
     while (last < all.size() && all[last].cell == cell) ++last;
     const double water = fraction.values()[cell];
-    if (water > 0.0) {
+    if (water > 0.0 && (before == nullptr || before->parts_of(cell).empty())) {
       const Eigen::Vector3d low =
           m_grid.position(Location::Cell, cell) - Eigen::Vector3d::Constant(0.5 * dx);
       double seen = 0.0;
@@ -79,13 +130,25 @@ void CutCellWater::share_water(const ShellGeometry& geometry, const LevelSet& le
             share[p] += wet;
             seen += wet;
           }
-      // A part too small for the samples to find (a corner cut off) holds the cell's mean
-      // fill; the cell's water is then shared in proportion, its total kept.
-      for (size_t p = first; p < last; ++p)
-        if (found[p] == 0) {
-          share[p] = all[p].volume * kSamples * kSamples * kSamples * std::min(water, 1.0);
-          seen += share[p];
+      // A part too small for the samples to find (a corner cut off, a sliver a shell swept
+      // into the cell) reads its corners, each wet by φ as it sees it, in proportion to its
+      // volume; the cell's water is then shared in proportion, its total kept.
+      for (size_t p = first; p < last; ++p) {
+        if (found[p] != 0) continue;
+        const Eigen::Vector3i ijk = m_grid.coordinates(Location::Cell, cell);
+        int corners = 0, wet = 0;
+        for (int c = 0; c < 8; ++c) {
+          if (!(all[p].corners >> c & 1u)) continue;
+          const Eigen::Vector3d x =
+              m_grid.position(Location::Node, Eigen::Vector3i(ijk + CellParts::cell_corner(c)));
+          const auto phi = visible.sample_visible(level_set.phi(), x, geometry);
+          ++corners;
+          wet += phi && *phi <= 0.0 ? 1 : 0;
         }
+        share[p] = corners > 0 ? all[p].volume * kSamples * kSamples * kSamples * wet / corners
+                               : 0.0;
+        seen += share[p];
+      }
       for (size_t p = first; p < last; ++p) {
         const double part_water =
             seen > 0.0 ? water * share[p] / seen : (all[p].slot ? water : 0.0);
@@ -107,19 +170,25 @@ const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
   std::vector<std::uint8_t> liquid(parts.size(), 0);
   continue_level_set(cell_phi);
   for (size_t p = 0; p < parts.size(); ++p) liquid[p] = m_part_phi[p] <= 0.0 ? 1 : 0;
-  // Water the level set shows as air with no liquid beside it on its side is a film it lost:
-  // liquid, its φ from the film's plane (a part holding a little of a deep neighbour's surface
-  // is that surface's, as a whole cell would be).
+  // Water the level set shows as air with no liquid beside it on its side is a film it lost,
+  // and a part F fills half or more is water whatever the level set continued into it (as
+  // F's correction makes a whole cell): liquid, its φ from the plane parallel to its shell
+  // that holds its water. A part holding a little of a deep neighbour's surface is that
+  // surface's, as a whole cell would be.
   const auto beside = liquid_beside(cell_phi, liquid);
   for (size_t p = 0; p < parts.size(); ++p) {
     const CellPart& part = parts[p];
     const double water = part.slot ? fraction.values()[part.cell] : fraction.part_values()[p];
-    if (liquid[p] || beside[p] || water <= kFilm) continue;
+    if (liquid[p] || water <= kFilm) continue;
+    if (beside[p] && water < 0.5 * part.volume) continue;
     const auto film = film_surface(geometry, part, water);
     if (!film) continue;
-    // An extra's centre lies behind its shell, in the film's half-space; a slot's may lie
-    // above its film, which it then holds at its depth below the centre.
-    m_part_phi[p] = part.slot ? -(film->height - film->shell) * dx : -film->height * dx;
+    // An extra's centre lies behind its shell, in the film's half-space; a slot's in its water
+    // is that deep, or, above its film, held at the film's depth below it.
+    const double depth = !part.slot            ? film->height
+                         : film->height > 0.0 ? film->height
+                                              : film->height - film->shell;
+    m_part_phi[p] = -depth * dx;
     liquid[p] = 1;
   }
   fraction.set_liquid_parts(std::move(liquid));
@@ -248,10 +317,12 @@ std::optional<CutCellWater::FilmSurface> CutCellWater::film_surface(const ShellG
 }
 
 void CutCellWater::extrapolate_fragments(const MacGrid& mac, std::span<const double> cell_phi) {
-  m_projected = m_fragments;  // F moves with the projection's divergence-free fragments
   // As a face's (Liquid::extrapolate): a fragment whose two ends' mean φ is water keeps the
   // projection's value; one nearer the air (θ < ½ beside a liquid part, where the ghost-fluid
-  // update grows as 1/θ) takes its face's extrapolated velocity.
+  // update grows as 1/θ) takes its face's extrapolated velocity. F moves with the projection's
+  // fragments beside a liquid end (divergence free), and with the extrapolated ones between
+  // two air ends, which the projection did not touch (an air part filling from a liquid
+  // neighbour gives on as a cell in the air does).
   const auto phi = [&](std::int32_t part, std::int64_t cell) {
     return part >= 0 ? m_part_phi[part] : cell_phi[cell];
   };  // a whole cell's φ is the level set's
@@ -259,9 +330,13 @@ void CutCellWater::extrapolate_fragments(const MacGrid& mac, std::span<const dou
     for (const FaceSplit& split : m_parts->split_faces(a)) {
       const auto [minus, plus] = cells_beside(m_grid, a, split.face);
       const auto list = m_parts->fragments_of(a, split);
-      for (size_t k = 0; k < list.size(); ++k)
-        if (phi(list[k].minus, minus) + phi(list[k].plus, plus) > 0.0)
-          m_fragments[a][split.first + k] = mac.face_velocity(a)[split.face];
+      const double extrapolated = mac.face_velocity(a)[split.face];
+      for (size_t k = 0; k < list.size(); ++k) {
+        const double phi_minus = phi(list[k].minus, minus), phi_plus = phi(list[k].plus, plus);
+        double& fragment = m_fragments[a][split.first + k];
+        m_projected[a][split.first + k] = phi_minus > 0.0 && phi_plus > 0.0 ? extrapolated : fragment;
+        if (phi_minus + phi_plus > 0.0) fragment = extrapolated;
+      }
     }
   }
 }

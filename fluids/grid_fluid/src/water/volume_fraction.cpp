@@ -21,6 +21,9 @@ constexpr double kFullOrEmpty = 1e-9;
 /// speed, θ near 0, would otherwise split every step of the whole grid: its excess Courant
 /// number is then clipped at the donor's water, and counted).
 constexpr int kMostParts = 16;
+/// A cut cell's part smaller than this share of its cell may be filled past its volume in a
+/// sweep (the excess carried on as a full cell's) rather than split the step further.
+constexpr double kSmallPart = 0.1;
 
 }  // namespace
 
@@ -299,7 +302,9 @@ void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, doubl
   double fastest = max_speed;  // the MAC's faces, and those F moves with instead
   for (const auto& faces : m_line_faces)
     for (const LineFace& face : faces) fastest = std::max(fastest, std::abs(face.u));
-  if (m_parts != nullptr) fastest = std::max(fastest, max_fragment_speed(*m_fragment_velocity));
+  // A fragment fills the smaller of its parts as fast as its flux over that part's volume.
+  if (m_parts != nullptr)
+    fastest = std::max(fastest, m_parts->max_filling_speed(*m_fragment_velocity, kSmallPart));
   const int parts =
       std::clamp(static_cast<int>(std::ceil(fastest * dt / m_mac.dx() / 0.5)), 1, kMostParts);
   // The dilation term's cells: the liquid cells of φ^n, whose faces the projection made
@@ -346,7 +351,9 @@ void VolumeFraction::advect(const MacGrid& mac, const LevelSet& level_set, doubl
   if (m_parts != nullptr) {
     const auto all = m_parts->parts();
     m_part_fill.resize(all.size());
+    m_part_room.resize(all.size());
     for (size_t p = 0; p < all.size(); ++p) {
+      m_part_room[p] = all[p].volume;
       const double water = all[p].slot ? m_fraction[all[p].cell] : m_part_fraction[p];
       m_part_fill[p] = all[p].volume > 0.0 ? std::clamp(water / all[p].volume, 0.0, 1.0) : 0.0;
       if (water > kFullOrEmpty) {
@@ -533,6 +540,10 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
     if (m_parts != nullptr) {
       std::vector<std::int64_t> cut_by_fragments;
       clipped += apply_fragments(fragment_pass, cut_by_fragments);
+      // A moving shell sweeps each part's room along this axis as the water moves.
+      if (m_shell_flux != nullptr && m_shell_flux->size() == m_part_room.size())
+        for (size_t p = 0; p < m_part_room.size(); ++p)
+          m_part_room[p] += (*m_shell_flux)[p][a] * dt / dx;
       for (const std::int64_t c : cut_by_fragments)
         if (m_plane_of[c] < 0) add_plane(c);
       divergence += fragment_pass.dilation;
@@ -549,9 +560,11 @@ void VolumeFraction::sweeps(const MacGrid& mac, const LevelSet& level_set,
   m_stats.divergence = divergence * cell;
 }
 
-void VolumeFraction::set_cut_cells(const CellParts* parts, const FragmentVelocities* velocities) {
+void VolumeFraction::set_cut_cells(const CellParts* parts, const FragmentVelocities* velocities,
+                                   const std::vector<Eigen::Vector3d>* shell_flux) {
   m_parts = parts;
   m_fragment_velocity = velocities;
+  m_shell_flux = shell_flux;
   m_part_fraction.clear();
   m_part_liquid.clear();
   m_cut_cell.clear();
@@ -621,9 +634,10 @@ VolumeFraction::FragmentPass VolumeFraction::gather_fragments(int axis, double d
                 positive ? fragment.plus : fragment.minus, positive ? minus_cell : plus_cell,
                 positive ? plus_cell : minus_cell, 0.0};
       if (flow.from_part >= 0) {
-        const double volume = parts[flow.from_part].volume;
-        const double fill =
-            volume > 0.0 ? std::clamp(water_of(flow.from_part) / volume, 0.0, 1.0) : 0.0;
+        // A part filled past its room gives in proportion, as a cell past F = 1 does (one
+        // the shell swept away, all it holds).
+        const double room = std::max(m_part_room[flow.from_part], kFullOrEmpty);
+        const double fill = std::max(water_of(flow.from_part) / room, 0.0);
         flow.water = s * conductance(fragment) * fill;
         given[flow.from_part] += flow.water;
       } else {
@@ -648,11 +662,14 @@ VolumeFraction::FragmentPass VolumeFraction::gather_fragments(int axis, double d
     else
       pass.whole_delta.push_back({flow.to_cell, water});
   }
-  // Each liquid part's dilation: its fill at the step's start times its fragments' outward
-  // flux (zero after the projection).
+  // Each liquid part's dilation: its fill at the step's start times its outward flux through
+  // its fragments and its moving shells' pieces (zero after the projection).
+  const bool moving = m_shell_flux != nullptr && m_shell_flux->size() == parts.size();
   for (size_t p = 0; p < parts.size(); ++p) {
     if (m_part_liquid.size() != parts.size() || m_part_liquid[p] == 0) continue;
-    const double dilation = m_part_fill[p] * outward[p] * dt / dx;
+    const double shell = moving ? (*m_shell_flux)[p][axis] : 0.0;
+    const double dilation = m_part_fill[p] * (outward[p] + shell) * dt / dx;
+
     pass.part_delta[p] += dilation;
     pass.dilation += dilation;
   }

@@ -121,6 +121,8 @@ class GridFluid final : public sdk::FluidSolver {
   /// The water of a water scene (null for smoke).
   const Liquid* liquid() const { return m_liquid.get(); }
   Liquid* liquid() { return m_liquid.get(); }
+  /// The water's cut cells (null without /water/cut_cells, or before the first step).
+  const CutCellWater* cut_water() const { return m_cut_water && m_cut_water->ready() ? m_cut_water.get() : nullptr; }
 
  private:
   /// Logs once for each level of drift the water's `volume` passes against what the scene
@@ -140,6 +142,9 @@ class GridFluid final : public sdk::FluidSolver {
   void project_against(std::unique_ptr<ShellGeometry>& geometry, double dt, sdk::ShellSet shells,
                        std::span<const sdk::Positions> boundary_velocity);
   /// Step 3 of advect() for water (gravity on the nodes, emitters) and for smoke.
+  /// Once, before the water's first step or projection: φ and F settled among `shells`, the
+  /// volume water_volume_change counts from measured.
+  void settle_water(const ShellGeometry& shells, const geometry::ShellBand* band);
   void advect_water_forces(double t, double dt);
   void add_smoke_forces(double t, double dt, const ShellGeometry& geom_n,
                         const geometry::ShellBand* band);

@@ -109,6 +109,10 @@ class CellParts {
     return (fragment.minus < 0 || m_parts[fragment.minus].slot) &&
            (fragment.plus < 0 || m_parts[fragment.plus].slot);
   }
+  /// The largest speed at which a fragment fills the smaller of the parts it joins, |u| β / v
+  /// (a whole cell's v is 1), with v no less than `smallest`: the speed F's Courant number
+  /// reads, as a face's |u| for whole cells.
+  double max_filling_speed(const FragmentVelocities& fragments, double smallest) const;
   /// The split face `face` of family `axis`, or none when the face is simply open.
   const FaceSplit* split(int axis, std::int64_t face) const;
 

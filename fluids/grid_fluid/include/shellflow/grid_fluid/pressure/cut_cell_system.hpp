@@ -11,8 +11,8 @@
 // the projection is orthogonal there and adds no kinetic energy. Across a shell there is no
 // fragment: the two sides of a cut cell meet only through the water around the shell.
 //
-// Built on the whole grid; the shells' own motion through a part (their pieces' flux) is not
-// counted yet: for still shells it is zero.
+// A moving shell's flux out of each part (its pieces' normal velocity, ShellPieces) joins the
+// part's divergence: the water fills the part as the shell sweeps it. Built on the whole grid.
 
 #include <array>
 #include <cstdint>
@@ -39,9 +39,10 @@ class CutCellSystem {
 
   /// Builds the operator of `parts` (which must outlive this system) for `liquid` in a
   /// domain whose closed faces `boundary` names (walls, inflow sides, emitters: their
-  /// velocities are prescribed, their weights 0).
+  /// velocities are prescribed, their weights 0). `shell_flux`: per part, the shells' flux out
+  /// of it along each axis (shell_flux(); empty: the shells are still).
   void build(const grid::UniformGrid& grid, const CellParts& parts, const DomainBoundary& boundary,
-             const Liquid& water);
+             const Liquid& water, std::span<const Eigen::Vector3d> shell_flux = {});
 
   const linear::GridLaplacian& laplacian() const { return m_laplacian; }
   /// The unknown of part `part` (an index into CellParts::parts()).
@@ -49,7 +50,8 @@ class CutCellSystem {
   /// Whether unknown u is liquid.
   bool liquid(int u) const { return m_phi[u] <= 0.0; }
 
-  /// Per unknown, the flow out through its faces and fragments, Σ β u·n [m/s] (air: 0).
+  /// Per unknown, the flow out through its faces and fragments, Σ β u·n [m/s], and through
+  /// its shells' pieces (air: 0).
   void outward_flux(const MacGrid& mac, const FragmentVelocities& fragments,
                     Eigen::VectorXd& flux) const;
   /// u −= ∇p' on every open face and fragment with a liquid side (ghost fluid towards air),
@@ -68,6 +70,7 @@ class CutCellSystem {
   bool m_ghost_fluid = true;
   std::vector<int> m_part_unknown;
   std::vector<double> m_phi;  ///< per unknown
+  std::vector<std::pair<int, double>> m_shell_flux;  ///< (unknown, flux) where a shell moves
   /// Per face: 1 closed by the domain (prescribed), 2 split by shells (its fragments count).
   std::array<std::vector<std::uint8_t>, 3> m_face_kind;
   linear::GridLaplacian m_laplacian;

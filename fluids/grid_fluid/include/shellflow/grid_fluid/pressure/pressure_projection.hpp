@@ -131,9 +131,11 @@ class PressureProjection {
   /// does: neumann() (walls 1; a split face none of whose fragments joins its two cells'
   /// slots 2, its velocity the shells' there), fluid_cell() (the liquid slots), no
   /// apertures; the slots' pressure in `mac`. Its stats count no regions (none are labelled).
+  /// `shell_flux`: per part, the moving shells' flux out of it (CutCellSystem::build).
   ProjectionStats project_parts(MacGrid& mac, FragmentVelocities& fragments, double dt,
                                 const DomainBoundary& boundary, const ShellGeometry& shells,
-                                const CellParts& parts, const CutCellSystem::Liquid& water);
+                                const CellParts& parts, const CutCellSystem::Liquid& water,
+                                std::span<const Eigen::Vector3d> shell_flux = {});
 
   /// Per cell: 1 where the last projection had a pressure unknown (liquid or smoke).
   bool fluid_cell(std::int64_t cell) const { return m_regions.region[cell] >= 0; }

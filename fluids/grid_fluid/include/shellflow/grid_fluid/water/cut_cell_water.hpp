@@ -2,7 +2,8 @@
 // CutCellWater: water on cut cells, `/fluid/water/cut_cells` (issue #52, docs/cut-cells.md):
 // the parts of the cells the shells cut (CellParts), the velocities of their faces'
 // fragments, and each part's φ at its virtual node (its cell's centre) for the projection on
-// parts. For still shells for now: the parts are found once, and shells that move are refused.
+// parts. The parts are found again whenever the shells move, and their water and fragments'
+// velocities carried to the new ones (part_water_motion.hpp).
 // A part's φ (docs/cut-cells.md, "Where it stands"): a slot's is the level set's sample at the
 // centre it holds; an extra part's is the level set continued linearly to the centre from the
 // whole cells and slots its fragments reach (a pocket between shells: from the extra parts
@@ -19,6 +20,7 @@
 #include "shellflow/grid_fluid/mac/face_node_transfer.hpp"
 #include "shellflow/grid_fluid/mac/mac_grid.hpp"
 #include "shellflow/grid_fluid/mac/shell_geometry.hpp"
+#include "shellflow/grid_fluid/mac/shell_pieces.hpp"
 #include "shellflow/grid_fluid/water/level_set.hpp"
 #include "shellflow/grid_fluid/water/volume_fraction.hpp"
 #include "shellflow/sdk/shell_surface.hpp"
@@ -29,20 +31,25 @@ class CutCellWater {
  public:
   explicit CutCellWater(const grid::UniformGrid& grid) : m_grid(grid) {}
 
-  /// Finds the parts of the cells `geometry` (built from `shells`) cuts the first time, with
-  /// every fragment at its face's velocity in `mac`, and hands them to `fraction`: each cut
-  /// cell's water is shared among its parts as `level_set`'s water lies in them (4³ samples,
-  /// each given to the part it sees and wet by φ's sign as it sees φ), its total kept. Later calls
-  /// check that the shells stand where they stood: throws shellflow::Error naming
-  /// /fluid/water/cut_cells when they moved.
-  void update(sdk::ShellSet shells, const ShellGeometry& geometry, const MacGrid& mac,
-              const LevelSet& level_set, VolumeFraction& fraction);
+  /// Finds the parts of the cells `geometry` (built from `shells`) cuts, with every fragment at
+  /// its face's velocity in `mac`, and hands them to `fraction`: each cut cell's water is
+  /// shared among its parts as `level_set`'s water lies in them (4³ samples, each given to
+  /// the part it sees and wet by φ's sign as it sees φ), its total kept. Nothing to do while
+  /// the shells stand where they stood. Once they moved, `previous` (the shells the parts were
+  /// found for) must be given: each part's water goes to the new parts (carry_part_water()),
+  /// each fragment takes the velocity of the old fragment of its face with most of its corners
+  /// (none: its face's), and only the cells newly cut share their water.
+  void update(sdk::ShellSet shells, const ShellGeometry& geometry, const ShellGeometry* previous,
+              const MacGrid& mac, const LevelSet& level_set, VolumeFraction& fraction);
   bool ready() const { return m_parts != nullptr; }
   const CellParts& parts() const { return *m_parts; }
   FragmentVelocities& fragments() { return m_fragments; }
   const FragmentVelocities& fragments() const { return m_fragments; }
   /// The split faces for §4.2's transfers.
   const CutFaces* cut_faces() { return ready() ? &m_cut_faces : nullptr; }
+  /// Per part, the shells' flux out of it along each axis at the velocities `geometry` holds
+  /// (shell_flux()), kept for F's dilation until the next call.
+  const std::vector<Eigen::Vector3d>& shell_flux(const ShellGeometry& geometry);
 
   /// φ at each part's virtual node (per CellParts::parts(); see the file comment), and the
   /// parts held liquid handed to `fraction` (its dilation weights).
@@ -53,9 +60,12 @@ class CutCellWater {
   void extrapolate_fragments(const MacGrid& mac, std::span<const double> cell_phi);
 
  private:
-  /// Each cut cell's water shared among its parts as `level_set` shows it (see update()).
+  /// Each cut cell's water shared among its parts as `level_set` shows it (see update()), but
+  /// for the cells `before` (may be null) cut too.
   void share_water(const ShellGeometry& geometry, const LevelSet& level_set,
-                   VolumeFraction& fraction) const;
+                   VolumeFraction& fraction, const CellParts* before) const;
+  /// The fragments' velocities carried from the parts `before` (see update()).
+  FragmentVelocities carry_fragments(const CellParts& before, const MacGrid& mac) const;
 
   /// m_part_phi from the level set: a slot's sample at the centre it holds; any other part's
   /// (an extra part, a slot whose centre lies on a shell) continued to the centre from its side
@@ -80,6 +90,8 @@ class CutCellWater {
   FragmentVelocities m_fragments;  ///< as the MAC's faces: extrapolated into the air
   FragmentVelocities m_projected;  ///< the projection's, which F moves with
   CutFaces m_cut_faces;
+  std::vector<ShellPiece> m_pieces;
+  std::vector<Eigen::Vector3d> m_shell_flux;  ///< the last projection's, per part
   std::vector<double> m_part_phi;
 };
 

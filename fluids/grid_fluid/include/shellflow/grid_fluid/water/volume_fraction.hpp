@@ -60,10 +60,13 @@ class VolumeFraction {
   /// Σ F Δx³ [m^3] (the extra parts' water included).
   double volume() const;
 
-  /// Cut cells: the parts of the cells shells cut and their fragments' velocities (which F
-  /// moves with through split faces), both kept by the caller while set; null: none. The
-  /// extras' water starts at none.
-  void set_cut_cells(const CellParts* parts, const FragmentVelocities* velocities);
+  /// Cut cells: the parts of the cells shells cut, their fragments' velocities (which F moves
+  /// with through split faces) and, per part, the moving shells' flux out of it along each
+  /// axis (ShellPieces' shell_flux(), which a part's dilation adds to its fragments'; null or
+  /// empty: still shells), all kept by the caller while set; null parts: none. The extras'
+  /// water starts at none.
+  void set_cut_cells(const CellParts* parts, const FragmentVelocities* velocities,
+                     const std::vector<Eigen::Vector3d>* shell_flux = nullptr);
   /// Which parts the last projection held liquid (per CellParts::parts(); empty: none yet):
   /// a part's dilation term weighs its fill there only, as a cell's weighs 1 where φ <= 0,
   /// since only their faces the projection balanced.
@@ -210,13 +213,15 @@ class VolumeFraction {
   std::array<bool, 6> m_open{};
   // Cut cells (set_cut_cells): the parts, their fragments' velocities, the extras' water,
   // per face whether it is split, per cell whether it is cut, each part's fill at the step's
-  // start (its dilation weight).
+  // start (its dilation weight), each part's room as the passes go.
   const CellParts* m_parts = nullptr;
   const FragmentVelocities* m_fragment_velocity = nullptr;
+  const std::vector<Eigen::Vector3d>* m_shell_flux = nullptr;
   std::vector<double> m_part_fraction;
   std::array<std::vector<std::uint8_t>, 3> m_split;
   std::vector<std::uint8_t> m_cut_cell;
   std::vector<double> m_part_fill;
+  std::vector<double> m_part_room;  ///< each part's volume as the step's passes sweep it
   std::vector<std::uint8_t> m_part_liquid;
   VolumeFractionStats m_stats;
 };
