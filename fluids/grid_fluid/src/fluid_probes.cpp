@@ -1,5 +1,7 @@
 #include "shellflow/grid_fluid/fluid_probes.hpp"
 
+#include "shellflow/grid_fluid/water/volume_fraction.hpp"
+
 #include <spdlog/fmt/fmt.h>
 
 #include <algorithm>
@@ -28,7 +30,9 @@ std::string point_text(const Eigen::Vector3d& p) {
 Schema FluidProbes::schema() {
   return Schema::array(
              Schema::variant("type", "a probe whose figures metrics.csv gets each step")
-                 .option("box", Schema::object("smoke mass or water volume inside a box")
+                 .option("box", Schema::object("smoke mass or water volume inside a box (water: "
+                                               "the water fraction's in the cells whose centres "
+                                               "lie in it; the level set's without one)")
                                     .field("name", Schema::string().doc(
                                                        "column prefix: <fluid>.<name>.smoke_mass "
                                                        "or .water_volume"))
@@ -112,16 +116,19 @@ FluidProbes::FluidProbes(const nlohmann::json& probes, const std::string& path,
 }
 
 void FluidProbes::report(sdk::Metrics& out, const MacGrid& mac, const std::vector<double>& density,
-                         const LevelSet* level_set) const {
+                         const LevelSet* level_set, const VolumeFraction* fraction) const {
   const grid::UniformGrid& grid = mac.grid();
   const double dx = grid.dx();
   const double cell = dx * dx * dx;
   for (const auto& p : m_probes) {
     if (p.type == Type::Box) {
       if (level_set) {
-        // The sharp volume of the cells whose centres lie in the box, as LevelSet::volume.
-        out.set(p.name + ".water_volume",
-                level_set->volume(grid.samples_in_box(Location::Cell, p.a, p.b)));
+        // The water of the cells whose centres lie in the box: F's (water_volume's measure),
+        // else the level set's sharp volume, as LevelSet::volume.
+        const grid::IndexBox cells = grid.samples_in_box(Location::Cell, p.a, p.b);
+        out.set(p.name + ".water_volume", fraction != nullptr && fraction->enabled()
+                                              ? fraction->volume_in(cells)
+                                              : level_set->volume(cells));
         continue;
       }
       const grid::IndexBox box = grid.samples_in_box(Location::Node, p.a, p.b);

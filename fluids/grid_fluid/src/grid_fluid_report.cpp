@@ -140,7 +140,8 @@ void GridFluid::report(sdk::Metrics& out) const {
   out.set("coupling_force_y", c.total_force.y());
   out.set("coupling_force_z", c.total_force.z());
   out.set("coupling_triangles_without_jump", static_cast<double>(c.triangles_without_jump));
-  m_probes.report(out, m_mac, m_nodes.density(), m_liquid ? &m_liquid->level_set() : nullptr);
+  m_probes.report(out, m_mac, m_nodes.density(), m_liquid ? &m_liquid->level_set() : nullptr,
+                  m_liquid ? &m_liquid->fraction() : nullptr);
 }
 
 void GridFluid::warn_of_volume_drift(double volume, double held) const {

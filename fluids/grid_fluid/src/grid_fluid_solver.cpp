@@ -445,8 +445,7 @@ void GridFluid::project_against(std::unique_ptr<ShellGeometry>& geometry, double
   if (parts) {
     // The shells moved since the parts were found for m_geometry_n (the step's start).
     const ShellGeometry* previous = &geometry != &m_geometry_n ? m_geometry_n.get() : nullptr;
-    m_cut_water->update(shells, geom, previous, m_mac, m_liquid->level_set(),
-                        m_liquid->fraction());
+    m_cut_water->update(shells, geom, previous, m_mac, m_liquid->level_set(), m_liquid->fraction());
     const FreeSurface& surface = m_liquid->surface();
     const auto& part_phi = m_cut_water->part_phi(geom, surface.cell_phi, m_liquid->fraction());
     m_stats.projection = m_projection.project_parts(

@@ -319,10 +319,13 @@ TEST(GridFluidShellsSlow, WaterInAShakenCupMakesNoWater) {
   // sampled, −3.6 … +0.7 %, ends −3.0 %; with the pressure solves' face fractions (a cell
   // the wall cuts passes the flow of its centre's side only), −2.5 … +0.9 %, ends −2.1 %.
   // The bounds: the widest of these swings and half again.
-  auto run = load("water_sloshing_cup.json", [](nlohmann::json& fluid) {
-    fluid["resolution"] = 32;
-    fluid["water"]["particles"]["per_cell"] = 0;
-  });
+  const bool still = getenv("STILL") != nullptr;
+  const int below_j = still ? 22 : 12;
+  auto run = load(getenv("ZZ") ? "zz_scratch_cup.json" : "water_sloshing_cup.json",
+                  [](nlohmann::json& fluid) {
+                    fluid["resolution"] = 32;
+                    fluid["water"]["particles"]["per_cell"] = 0;
+                  });
   const double dt0 = 1.0 / run.scene.time.fps;
   const double v0 = start_water_scene(run);
   const auto volume = [&] { return test::reported(*run.fluid, "water_volume"); };
@@ -362,6 +365,32 @@ TEST(GridFluidShellsSlow, ASheetOnATiltedPlateOnCutCellsKeepsItsWater) {
   }
   EXPECT_LE(worst, 0.01);
   EXPECT_LE(fastest, 3.0 * std::sqrt(2.0 * 9.81 * 1.0));
+}
+
+// Cut cells on a moving shell (issue #52): configs/verify/water_sloshing_cup (48 cells, a cup
+// shaken sideways 2 cm at 1 Hz, water 0.1 m deep, never reaching the rim) with
+// /fluid/water/cut_cells on (no particles: not on cut cells yet), 1 s: the cup's parts move
+// every step and their water with them. The issue's bound on the drift, 0.1 % of the water a
+// second; the water below the cup (the probe below_cup, read from F) within 5e-4 of the water:
+// the issue asks none, and what reaches it is the first share's (the level set read across the
+// bottom's rim gives slivers under it water; docs/cut-cells.md). The issue's speed bound is not
+// met yet: slivers of parts by the wall spike.
+TEST(GridFluidShellsSlow, AShakenCupOnCutCellsKeepsItsWater) {
+  auto run = load("water_sloshing_cup.json", [](nlohmann::json& fluid) {
+    fluid["water"]["cut_cells"] = true;
+    fluid["water"]["particles"]["per_cell"] = 0;
+  });
+  const double dt0 = 1.0 / run.scene.time.fps;
+  const double v0 = start_water_scene(run);
+  const auto volume = [&] { return test::reported(*run.fluid, "water_volume"); };
+  double worst = 0.0, below = 0.0;
+  while (run.loop->time() < 1.0 - 1e-9) {
+    run.loop->step(run.loop->next_dt(dt0), dt0);
+    worst = std::max(worst, std::abs(volume() / v0 - 1.0));
+    below = std::max(below, test::reported(*run.fluid, "below_cup.water_volume"));
+  }
+  EXPECT_LE(worst, 1e-3);
+  EXPECT_LE(below, 5e-4 * v0);
 }
 
 }  // namespace

@@ -378,8 +378,8 @@ TEST_P(WaterAmongShells, ThinWallDamKeepsTheWetSideLevel) {
 }
 
 TEST_P(WaterAmongShells, ThinWallDamMovingSlowlyKeepsTheDrySideDry) {
-  auto fluid = test::make_fluid(water_params(
-      16, water({{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.4, 0.6, 2}}}})));
+  auto fluid = test::make_fluid(
+      water_params(16, water({{{"type", "box"}, {"min", {-1, -1, -1}}, {"max", {0.4, 0.6, 2}}}})));
   const double speed = 0.05;  // m/s: the plate crosses about 1.6 cells in 0.5 s
   // F's after the first step (which fits F to φ among the shells), and what its sweeps made
   // since (the dilation of the projection's residual divergence, the clipping at F = 0).
@@ -493,9 +493,9 @@ TEST(WaterOnCutCells, APoolRidesARisingPlate) {
     double y = (3.5 + h) * dx;
     auto fluid = test::make_fluid(water_params(
         16,
-        test::water_core("cut_cells",
-                         {{"initial",
-                           {{{"type", "box"}, {"min", {-1, y, -1}}, {"max", {2, y + depth, 2}}}}}}),
+        test::water_core(
+            "cut_cells",
+            {{"initial", {{{"type", "box"}, {"min", {-1, y, -1}}, {"max", {2, y + depth, 2}}}}}}),
         1e-10));
     double t = 0.0, water = 0.0, made = 0.0, worst_speed = 0.0;
     while (t < 1.0 - 1e-12) {

@@ -97,7 +97,8 @@ void CutCellSystem::build(const grid::UniformGrid& grid, const CellParts& parts,
   m_laplacian.set_parts(std::move(extra_cell), links);
   m_shell_flux.clear();
   for (size_t p = 0; p < shell_flux.size(); ++p)
-    if (const double q = shell_flux[p].sum(); q != 0.0) m_shell_flux.push_back({m_part_unknown[p], q});
+    if (const double q = shell_flux[p].sum(); q != 0.0)
+      m_shell_flux.push_back({m_part_unknown[p], q});
 }
 
 std::pair<int, int> CutCellSystem::fragment_unknowns(int axis, std::int64_t face,

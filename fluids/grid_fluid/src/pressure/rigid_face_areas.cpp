@@ -115,15 +115,18 @@ std::vector<RigidFacePieces> rigid_face_pieces(const grid::UniformGrid& grid,
     }
     for (int i = first[b]; i <= last[b]; ++i) {
       const double bl = origin[b] + i * dx;
-      const geometry::ConvexPolygon strip = geometry::clip(geometry::clip(tri, b, bl, 1.0), b, bl + dx, -1.0);
+      const geometry::ConvexPolygon strip =
+          geometry::clip(geometry::clip(tri, b, bl, 1.0), b, bl + dx, -1.0);
       if (strip.count < 3) continue;
       for (int j = first[c]; j <= last[c]; ++j) {
         const double cl = origin[c] + j * dx;
-        const geometry::ConvexPolygon bar = geometry::clip(geometry::clip(strip, c, cl, 1.0), c, cl + dx, -1.0);
+        const geometry::ConvexPolygon bar =
+            geometry::clip(geometry::clip(strip, c, cl, 1.0), c, cl + dx, -1.0);
         if (bar.count < 3) continue;
         for (int l = first[a]; l <= last[a]; ++l) {
           const double al = origin[a] + l * dx;
-          const geometry::ConvexPolygon piece = geometry::clip(geometry::clip(bar, a, al, 1.0), a, al + dx, -1.0);
+          const geometry::ConvexPolygon piece =
+              geometry::clip(geometry::clip(bar, a, al, 1.0), a, al + dx, -1.0);
           if (piece.count < 3) continue;
           const auto [area, centroid] = geometry::moments(piece);
           if (area == 0.0) continue;

@@ -66,7 +66,6 @@ void CutCellWater::update(sdk::ShellSet shells, const ShellGeometry& geometry,
   share_water(geometry, level_set, fraction, before.get());
   if (before)
     carry_part_water(m_grid, *before, water, *previous, *m_parts, geometry, level_set, fraction);
-
 }
 
 FragmentVelocities CutCellWater::carry_fragments(const CellParts& before,
@@ -145,8 +144,8 @@ void CutCellWater::share_water(const ShellGeometry& geometry, const LevelSet& le
           ++corners;
           wet += phi && *phi <= 0.0 ? 1 : 0;
         }
-        share[p] = corners > 0 ? all[p].volume * kSamples * kSamples * kSamples * wet / corners
-                               : 0.0;
+        share[p] =
+            corners > 0 ? all[p].volume * kSamples * kSamples * kSamples * wet / corners : 0.0;
         seen += share[p];
       }
       for (size_t p = first; p < last; ++p) {
@@ -169,6 +168,9 @@ const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
   const double dx = m_grid.dx();
   std::vector<std::uint8_t> liquid(parts.size(), 0);
   continue_level_set(cell_phi);
+  const auto water_of = [&](size_t p) {
+    return parts[p].slot ? fraction.values()[parts[p].cell] : fraction.part_values()[p];
+  };
   for (size_t p = 0; p < parts.size(); ++p) liquid[p] = m_part_phi[p] <= 0.0 ? 1 : 0;
   // Water the level set shows as air with no liquid beside it on its side is a film it lost,
   // and a part F fills half or more is water whatever the level set continued into it (as
@@ -178,14 +180,14 @@ const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
   const auto beside = liquid_beside(cell_phi, liquid);
   for (size_t p = 0; p < parts.size(); ++p) {
     const CellPart& part = parts[p];
-    const double water = part.slot ? fraction.values()[part.cell] : fraction.part_values()[p];
+    const double water = water_of(p);
     if (liquid[p] || water <= kFilm) continue;
     if (beside[p] && water < 0.5 * part.volume) continue;
     const auto film = film_surface(geometry, part, water);
     if (!film) continue;
     // An extra's centre lies behind its shell, in the film's half-space; a slot's in its water
     // is that deep, or, above its film, held at the film's depth below it.
-    const double depth = !part.slot            ? film->height
+    const double depth = !part.slot           ? film->height
                          : film->height > 0.0 ? film->height
                                               : film->height - film->shell;
     m_part_phi[p] = -depth * dx;
@@ -334,7 +336,8 @@ void CutCellWater::extrapolate_fragments(const MacGrid& mac, std::span<const dou
       for (size_t k = 0; k < list.size(); ++k) {
         const double phi_minus = phi(list[k].minus, minus), phi_plus = phi(list[k].plus, plus);
         double& fragment = m_fragments[a][split.first + k];
-        m_projected[a][split.first + k] = phi_minus > 0.0 && phi_plus > 0.0 ? extrapolated : fragment;
+        m_projected[a][split.first + k] =
+            phi_minus > 0.0 && phi_plus > 0.0 ? extrapolated : fragment;
         if (phi_minus + phi_plus > 0.0) fragment = extrapolated;
       }
     }

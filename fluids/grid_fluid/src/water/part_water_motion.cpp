@@ -29,6 +29,19 @@ void add_water(const CellParts& after, VolumeFraction& fraction, std::int32_t pa
     fraction.values()[part >= 0 ? after.parts()[part].cell : cell] += water;
 }
 
+/// `normal` (a unit normal of the triangle of `hit` in `before`) turned with the triangle into
+/// `after`.
+Eigen::Vector3d turned_normal(const ShellGeometry& before, const ShellGeometry& after,
+                              const geometry::WedgeHit& hit, const Eigen::Vector3d& normal) {
+  const auto plane = [&](const ShellGeometry& shells) {
+    const geometry::TriangleCorners c = shells.mesh(hit.shell).corners(hit.triangle);
+    return Eigen::Vector3d((c[1] - c[0]).cross(c[2] - c[0]));
+  };
+  const Eigen::Vector3d was = plane(before), now = plane(after);
+  if (now.squaredNorm() == 0.0) return normal;
+  return was.dot(normal) >= 0.0 ? now.normalized() : Eigen::Vector3d(-now.normalized());
+}
+
 }  // namespace
 
 bool same_parts(const CellParts& before, const CellParts& after, std::int64_t cell) {
@@ -44,6 +57,7 @@ double carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
                         const LevelSet& level_set, VolumeFraction& fraction) {
   constexpr int kSamples = 4;  // per axis, as the first share of a cut cell's water
   const double dx = grid.dx(), h = dx / kSamples;
+  const double off = 2.0 * shells_after.epsilon();  // a point beside a shell, past its wedge
   const LevelSetAdvector visible(level_set.grid());
   const auto old_parts = before.parts();
   double unplaced = 0.0;
@@ -79,13 +93,17 @@ double carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
           samples.push_back(
               grid.position(Location::Node, Eigen::Vector3i(ijk + CellParts::cell_corner(c))));
     for (const Eigen::Vector3d& x : samples) {
-      // The shell's normal motion at the nearest point, which the sample keeps to.
+      // The sample rides its nearest shell point, and must then still see that point's side.
       Landing landing;
       Eigen::Vector3d moved = x;
       if (const auto contact = shells_before.nearest(x, 2.0 * dx, x)) {
         landing.distance = contact->distance;
-        if (const auto then = shells_after.point_at(contact->where))
-          moved += contact->normal * contact->normal.dot(*then - contact->point);
+        const auto then = shells_after.point_at(contact->where);
+        if (!then) continue;
+        moved += *then - contact->point;
+        const Eigen::Vector3d side = *then + off * turned_normal(shells_before, shells_after,
+                                                                 contact->where, contact->normal);
+        if (!shells_after.visible(moved, side)) continue;
       }
       Eigen::Vector3i at;
       for (int a = 0; a < 3; ++a)
@@ -100,25 +118,26 @@ double carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
       landing.wet = phi && *phi <= 0.0;
       landings.push_back(landing);
     }
-    const auto wet = std::count_if(landings.begin(), landings.end(),
-                                   [](const Landing& l) { return l.wet; });
+    const auto wet =
+        std::count_if(landings.begin(), landings.end(), [](const Landing& l) { return l.wet; });
     if (wet == 0 && !landings.empty()) {
       // A film the level set does not show lies against its shell: the samples nearest it,
       // as many as its share of the part.
       std::sort(landings.begin(), landings.end(),
                 [](const Landing& a, const Landing& b) { return a.distance < b.distance; });
       const double fill = part.volume > 0.0 ? water / part.volume : 1.0;
-      const auto count = std::clamp<std::ptrdiff_t>(
-          static_cast<std::ptrdiff_t>(std::ceil(fill * landings.size())), 1,
-          static_cast<std::ptrdiff_t>(landings.size()));
+      const auto count =
+          std::clamp<std::ptrdiff_t>(static_cast<std::ptrdiff_t>(std::ceil(fill * landings.size())),
+                                     1, static_cast<std::ptrdiff_t>(landings.size()));
       for (std::ptrdiff_t l = 0; l < count; ++l) landings[l].wet = true;
     }
-    const auto carried = std::count_if(landings.begin(), landings.end(),
-                                       [](const Landing& l) { return l.wet; });
+    const auto carried =
+        std::count_if(landings.begin(), landings.end(), [](const Landing& l) { return l.wet; });
     if (carried > 0) {
       for (const Landing& l : landings)
-        if (l.wet) { add_water(after, fraction, l.part, l.cell, water / carried);
-}
+        if (l.wet) {
+          add_water(after, fraction, l.part, l.cell, water / carried);
+        }
       continue;
     }
     // No sample landed: the part of the cell holding most of its corners keeps it (the slot

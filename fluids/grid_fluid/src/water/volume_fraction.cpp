@@ -165,6 +165,23 @@ double VolumeFraction::volume() const {
   return sum * dx * dx * dx;
 }
 
+double VolumeFraction::volume_in(const grid::IndexBox& cells) const {
+  if (cells.empty()) return 0.0;
+  double sum = 0.0;
+  for (int k = cells.lo.z(); k <= cells.hi.z(); ++k)
+    for (int j = cells.lo.y(); j <= cells.hi.y(); ++j)
+      for (int i = cells.lo.x(); i <= cells.hi.x(); ++i)
+        sum += m_fraction[m_mac.index(Location::Cell, i, j, k)];
+  if (m_parts != nullptr) {
+    const auto parts = m_parts->parts();
+    for (size_t p = 0; p < parts.size(); ++p)
+      if (!parts[p].slot && cells.contains(m_mac.coordinates(Location::Cell, parts[p].cell)))
+        sum += m_part_fraction[p];
+  }
+  const double dx = m_mac.dx();
+  return sum * dx * dx * dx;
+}
+
 Eigen::Vector3d VolumeFraction::normal_at(const LevelSet& level_set, const Eigen::Vector3i& c) const {
   const Eigen::Vector3i n = m_mac.cells();
   const auto& phi = level_set.phi();

@@ -28,6 +28,7 @@
 namespace shellflow::grid_fluid {
 
 class LevelSet;
+class VolumeFraction;
 
 class FluidProbes {
  public:
@@ -38,9 +39,10 @@ class FluidProbes {
   /// `grid`: where a velocity_error probe samples its reference field.
   FluidProbes(const nlohmann::json& probes, const std::string& path, const grid::UniformGrid& grid);
 
-  /// `density`: the smoke's node density (empty for water); `level_set`: null for smoke.
+  /// `density`: the smoke's node density (empty for water); `level_set`: null for smoke;
+  /// `fraction`: the water's F (null or not enabled: a box reads the level set's volume).
   void report(sdk::Metrics& out, const MacGrid& mac, const std::vector<double>& density,
-              const LevelSet* level_set) const;
+              const LevelSet* level_set, const VolumeFraction* fraction = nullptr) const;
 
   bool empty() const { return m_probes.empty(); }
 

@@ -122,7 +122,9 @@ class GridFluid final : public sdk::FluidSolver {
   const Liquid* liquid() const { return m_liquid.get(); }
   Liquid* liquid() { return m_liquid.get(); }
   /// The water's cut cells (null without /water/cut_cells, or before the first step).
-  const CutCellWater* cut_water() const { return m_cut_water && m_cut_water->ready() ? m_cut_water.get() : nullptr; }
+  const CutCellWater* cut_water() const {
+    return m_cut_water && m_cut_water->ready() ? m_cut_water.get() : nullptr;
+  }
 
  private:
   /// Logs once for each level of drift the water's `volume` passes against what the scene

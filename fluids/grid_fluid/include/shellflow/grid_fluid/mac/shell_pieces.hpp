@@ -18,7 +18,7 @@ namespace shellflow::grid_fluid {
 /// One triangle of a shell clipped to one cell that shells cut.
 struct ShellPiece {
   std::int64_t cell = -1;
-  double area = 0.0;  ///< over Δx²
+  double area = 0.0;                                 ///< over Δx²
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();  ///< the triangle's unit normal
   geometry::WedgeHit centroid;  ///< where the piece's centroid lies on its triangle
   /// The parts (indices into CellParts::parts()) on the normal's side and on the other; −1

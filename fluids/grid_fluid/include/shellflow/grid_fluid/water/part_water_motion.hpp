@@ -4,11 +4,11 @@
 // a node) keeps its water: the projection balanced its fragments against the shell's sweep,
 // so its water already grew or shrank with it. A part whose cell's parts changed (a node
 // swept: a part vanished, appeared or changed its corners) hands its water to the parts its
-// samples reach when each moves with the shell's normal motion, as the water beside a shell
-// does (free slip: a shell sliding along itself carries nothing): always to its own side,
-// into the next cell where the shell left the part behind. Within what the samples reach the
-// water goes where the level set after the move shows water, or, a film it does not show,
-// next to the shell.
+// samples reach when each rides its nearest shell point, those that still see that point's
+// side after the move (never across a shell: a sample by a cup's bottom, which does not move
+// across it, may be crossed by the wall): into the next cell where the shell left the part
+// behind. Within what the samples reach the water goes where the level set after the move
+// shows water, or, a film it does not show, next to the shell.
 
 #include <span>
 

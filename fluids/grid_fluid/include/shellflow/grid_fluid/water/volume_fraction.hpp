@@ -59,6 +59,8 @@ class VolumeFraction {
   std::vector<double>& values() { return m_fraction; }
   /// Σ F Δx³ [m^3] (the extra parts' water included).
   double volume() const;
+  /// The water [m^3] of the cells of `cells`, their extra parts' included.
+  double volume_in(const grid::IndexBox& cells) const;
 
   /// Cut cells: the parts of the cells shells cut, their fragments' velocities (which F moves
   /// with through split faces) and, per part, the moving shells' flux out of it along each
