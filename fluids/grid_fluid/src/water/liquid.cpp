@@ -324,9 +324,27 @@ void Liquid::settle_among_shells(const ShellGeometry& shells, const geometry::Sh
     if (band != nullptr) forget_faces_on_shells(shells, *band);
     m_fast_marching.reinitialize(m_level_set.phi(), m_level_set.band(), shells, band, &m_scratch);
     m_particles.seed(m_level_set, shells);  // about that φ, and kept off the shells
-    if (m_fraction.enabled()) m_fraction.fit(m_level_set, m_scratch);  // and F from it
+    if (m_fraction.enabled()) fit_fraction_among_shells(shells, band);  // and F from it
   }
   std::vector<double>().swap(m_built);
+}
+
+void Liquid::fit_fraction_among_shells(const ShellGeometry& shells,
+                                       const geometry::ShellBand* band) {
+  // With cut cells, a cell a shell may cut keeps the shape's fraction: φ no longer shows a
+  // face of the shape that lies on a shell (forget_faces_on_shells), and its fit filled the
+  // cell across the shell (a box on a plate 0.18 of a cell above a plane of nodes gained that
+  // much per column). Its parts share it as the level set shows the water on each side.
+  std::vector<std::pair<std::int64_t, double>> kept;
+  if (m_parts_on && band != nullptr) {
+    const grid::UniformGrid& grid = m_level_set.grid();
+    const double reach = 0.5 * std::sqrt(3.0) * grid.dx();
+    for (const std::int64_t i : LevelSet::band_samples(*band, grid))
+      if (shells.nearest(grid.position(Location::Node, i), reach, grid.position(Location::Node, i)))
+        kept.push_back({i, m_fraction.values()[i]});
+  }
+  m_fraction.fit(m_level_set, m_scratch);
+  for (const auto& [cell, fraction] : kept) m_fraction.values()[cell] = fraction;
 }
 
 std::span<const std::uint8_t> Liquid::velocity_nodes(double t, double dt, double max_speed) {

@@ -155,6 +155,8 @@ class Liquid {
   /// The cells a face the shells close bounds (their two sides share one F), in
   /// m_cut_cells: F leaves φ as it is there.
   void mark_cut_cells(const ShellGeometry& shells, const geometry::ShellBand* band);
+  /// F fitted to φ settled among `shells` (settle_among_shells()).
+  void fit_fraction_among_shells(const ShellGeometry& shells, const geometry::ShellBand* band);
   /// advect()'s part for the water fraction: F over dt, its flows into the budget.
   void advect_fraction(double t, const MacGrid& mac, double dt, double max_speed,
                        const ShellGeometry& shells, const geometry::ShellBand* band);
