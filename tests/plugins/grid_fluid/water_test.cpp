@@ -485,9 +485,10 @@ WaterAboutAPlate water_about_a_plate(const GridFluid& fluid, const CellParts& pa
 // moving shells): the plate, started 0.1, 0.32, 0.68 or 0.9 of a cell above a plane of
 // centres, crosses four planes of nodes, each time the cut cells' parts change and their
 // water is carried on. The pool rides it: no water below the plate, its surface the plate's
-// height plus the pool's depth (to a quarter cell: the level set's), its water within the
-// projection's tolerance of uniform motion with the plate, F's budget closed from the box's
-// own volume (the cut cells' first share of it exact).
+// height plus the pool's depth (a level surface, which φ holds exactly: a hundredth of a cell
+// is margin), its water in uniform motion with the plate to 1e-9 m/s (the solve's tolerance,
+// 1e-10, of the speed), F's budget closed from the box's own volume (the cut cells' first share
+// of it exact). Measured: docs/measured-figures.md.
 TEST(WaterOnCutCells, APoolRidesARisingPlate) {
   for (const double h : {0.1, 0.32, 0.68, 0.9}) {
     const double dx = 1.0 / 16.0, depth = 0.25, speed = 0.25;
@@ -520,8 +521,8 @@ TEST(WaterOnCutCells, APoolRidesARisingPlate) {
     EXPECT_EQ(end.below, 0.0) << "h " << h;
     EXPECT_NEAR(fluid->liquid()->fraction().volume() - water, made, 1e-12 * water) << "h " << h;
     EXPECT_LE(std::abs(made), 1e-6 * water) << "h " << h;
-    EXPECT_NEAR(surface_height(*fluid, 0.5, 0.5), y + depth, 0.25 * dx) << "h " << h;
-    EXPECT_NEAR(worst_speed, speed, 1e-6) << "h " << h;
+    EXPECT_NEAR(surface_height(*fluid, 0.5, 0.5), y + depth, 0.01 * dx) << "h " << h;
+    EXPECT_NEAR(worst_speed, speed, 1e-9) << "h " << h;
   }
 }
 

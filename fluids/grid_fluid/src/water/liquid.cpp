@@ -117,8 +117,8 @@ sdk::Schema Liquid::schema() {
                  "and face velocities (issue #52, docs/cut-cells.md), so that water on the side "
                  "of a shell away from a cell's centre, a film on a plate, keeps its own "
                  "pressure and velocity. In progress: needs volume_fraction, no particles, "
-                 "still one-way shells (a shell that moves, or a two-way one, is refused when "
-                 "the run meets it), and no checkpoints yet"))
+                 "one-way shells, still or moving (a two-way one is refused when the run meets "
+                 "it), and no checkpoints yet"))
       .field("initial", Schema::array(initial_water_schema())
                             .default_value(Schema::Json::array())
                             .doc("bodies of water at the start, united"))
