@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <optional>
 
 #include "shellflow/geometry/triangle_mesh.hpp"
@@ -171,7 +172,15 @@ const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
   const auto water_of = [&](size_t p) {
     return parts[p].slot ? fraction.values()[parts[p].cell] : fraction.part_values()[p];
   };
-  for (size_t p = 0; p < parts.size(); ++p) liquid[p] = m_part_phi[p] <= 0.0 ? 1 : 0;
+  // A part holding no water that φ continued from air alone reads water only where the level
+  // set beyond it measured its distance through a shell to the water on the other side (just
+  // outside a cup's wall): air, as near the surface as its nearest neighbour. Columns of such
+  // slivers along a cup's wall were liquid with nothing holding them and fell freely.
+  for (size_t p = 0; p < parts.size(); ++p) {
+    if (m_part_phi[p] <= 0.0 && m_air_around[p] > 0.0 && water_of(p) <= kFilm)
+      m_part_phi[p] = m_air_around[p];
+    liquid[p] = m_part_phi[p] <= 0.0 ? 1 : 0;
+  }
   // Water the level set shows as air with no liquid beside it on its side is a film it lost,
   // and a part F fills half or more is water whatever the level set continued into it (as
   // F's correction makes a whole cell): liquid, its φ from the plane parallel to its shell
@@ -200,6 +209,7 @@ const std::vector<double>& CutCellWater::part_phi(const ShellGeometry& geometry,
 void CutCellWater::continue_level_set(std::span<const double> cell_phi) {
   const auto parts = m_parts->parts();
   m_part_phi.resize(parts.size());
+  m_air_around.assign(parts.size(), 0.0);
   std::vector<std::uint8_t> known(parts.size(), 0);
   for (size_t p = 0; p < parts.size(); ++p)
     if (parts[p].holds_centre) {  // a centre on a shell is no part's: its slot is continued
@@ -214,6 +224,7 @@ void CutCellWater::continue_level_set(std::span<const double> cell_phi) {
   struct Side {
     double sum = 0.0;
     int count = 0;
+    double nearest = std::numeric_limits<double>::infinity();  // the least φ of the neighbours it is continued from
   };
   std::vector<Side> side(parts.size());
   constexpr int kMostPasses = 8;  // a pocket this many parts from a whole cell stays air
@@ -244,6 +255,7 @@ void CutCellWater::continue_level_set(std::span<const double> cell_phi) {
             const std::int64_t far = farther[1 - e];
             side[mine].sum += far >= 0 ? 2.0 * phi - cell_phi[far] : phi;
             ++side[mine].count;
+            side[mine].nearest = std::min(side[mine].nearest, phi);
           }
         }
       }
@@ -252,6 +264,7 @@ void CutCellWater::continue_level_set(std::span<const double> cell_phi) {
     for (size_t p = 0; p < parts.size(); ++p)
       if (!known[p] && side[p].count > 0) {
         m_part_phi[p] = side[p].sum / side[p].count;
+        m_air_around[p] = side[p].nearest > 0.0 ? side[p].nearest : 0.0;
         known[p] = 2;  // read from the next pass on
         reached = true;
       } else if (!known[p]) {

@@ -93,6 +93,8 @@ class CutCellWater {
   std::vector<ShellPiece> m_pieces;
   std::vector<Eigen::Vector3d> m_shell_flux;  ///< the last projection's, per part
   std::vector<double> m_part_phi;
+  /// Per part continued from neighbours that are all air: the least of their φ (else 0).
+  std::vector<double> m_air_around;
 };
 
 }  // namespace shellflow::grid_fluid
