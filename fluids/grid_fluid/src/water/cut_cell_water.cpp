@@ -228,7 +228,8 @@ void CutCellWater::continue_level_set(std::span<const double> cell_phi) {
   struct Side {
     double sum = 0.0;
     int count = 0;
-    double nearest = std::numeric_limits<double>::infinity();  // the least φ of the neighbours it is continued from
+    // The least φ of the neighbours it is continued from.
+    double nearest = std::numeric_limits<double>::infinity();
   };
   std::vector<Side> side(parts.size());
   constexpr int kMostPasses = 8;  // a pocket this many parts from a whole cell stays air
@@ -340,9 +341,9 @@ void CutCellWater::extrapolate_fragments(const MacGrid& mac, std::span<const dou
   // projection's value; one nearer the air (θ < ½ beside a liquid part, where the ghost-fluid
   // update grows as 1/θ) takes its face's extrapolated velocity, as does a sliver of a face
   // (the solve sees its flux, not its speed: one by a shaken cup's wall reached 129 m/s). F
-  // moves with the projection's fragments beside a liquid end (divergence free), and with the extrapolated ones between
-  // two air ends, which the projection did not touch (an air part filling from a liquid
-  // neighbour gives on as a cell in the air does).
+  // moves with the projection's fragments beside a liquid end (divergence free), and with the
+  // extrapolated ones between two air ends, which the projection did not touch (an air part
+  // filling from a liquid neighbour gives on as a cell in the air does).
   const auto phi = [&](std::int32_t part, std::int64_t cell) {
     return part >= 0 ? m_part_phi[part] : cell_phi[cell];
   };  // a whole cell's φ is the level set's

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <numeric>
 
 #include "shellflow/grid_fluid/water/level_set_advector.hpp"
 
@@ -42,8 +41,7 @@ Eigen::Vector3d turned_normal(const ShellGeometry& before, const ShellGeometry& 
   return was.dot(normal) >= 0.0 ? now.normalized() : Eigen::Vector3d(-now.normalized());
 }
 
-}  // namespace
-
+/// Whether `cell` has the same parts (the same corner groups) in `before` and `after`.
 bool same_parts(const CellParts& before, const CellParts& after, std::int64_t cell) {
   const auto old_parts = before.parts_of(cell), new_parts = after.parts_of(cell);
   return old_parts.size() == new_parts.size() &&
@@ -51,7 +49,9 @@ bool same_parts(const CellParts& before, const CellParts& after, std::int64_t ce
                     [](const CellPart& p, const CellPart& q) { return p.corners == q.corners; });
 }
 
-double carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
+}  // namespace
+
+void carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
                         std::span<const double> water_before, const ShellGeometry& shells_before,
                         const CellParts& after, const ShellGeometry& shells_after,
                         const LevelSet& level_set, VolumeFraction& fraction) {
@@ -60,8 +60,8 @@ double carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
   const double off = 2.0 * shells_after.epsilon();  // a point beside a shell, past its wedge
   const LevelSetAdvector visible(level_set.grid());
   const auto old_parts = before.parts();
-  double unplaced = 0.0;
   std::vector<Landing> landings;
+  std::vector<Eigen::Vector3d> samples;
   for (size_t p = 0; p < old_parts.size(); ++p) {
     const CellPart& part = old_parts[p];
     const double water = water_before[p];
@@ -79,7 +79,7 @@ double carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
     // sliver the shell is leaving), its corners.
     const Eigen::Vector3i ijk = grid.coordinates(Location::Cell, part.cell);
     const Eigen::Vector3d low = grid.position(Location::Node, ijk);
-    std::vector<Eigen::Vector3d> samples;
+    samples.clear();
     for (int k = 0; k < kSamples; ++k)
       for (int j = 0; j < kSamples; ++j)
         for (int i = 0; i < kSamples; ++i) {
@@ -135,14 +135,11 @@ double carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
         std::count_if(landings.begin(), landings.end(), [](const Landing& l) { return l.wet; });
     if (carried > 0) {
       for (const Landing& l : landings)
-        if (l.wet) {
-          add_water(after, fraction, l.part, l.cell, water / carried);
-        }
+        if (l.wet) add_water(after, fraction, l.part, l.cell, water / carried);
       continue;
     }
     // No sample landed: the part of the cell holding most of its corners keeps it (the slot
     // among equals; a cell now whole, itself).
-    unplaced += water;
     std::int32_t best = -1;
     int best_score = -1;
     for (const CellPart& q : after.parts_of(part.cell)) {
@@ -154,7 +151,6 @@ double carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
     }
     add_water(after, fraction, best, part.cell, water);
   }
-  return unplaced;
 }
 
 }  // namespace shellflow::grid_fluid

@@ -686,7 +686,6 @@ VolumeFraction::FragmentPass VolumeFraction::gather_fragments(int axis, double d
     if (m_part_liquid.size() != parts.size() || m_part_liquid[p] == 0) continue;
     const double shell = moving ? (*m_shell_flux)[p][axis] : 0.0;
     const double dilation = m_part_fill[p] * (outward[p] + shell) * dt / dx;
-
     pass.part_delta[p] += dilation;
     pass.dilation += dilation;
   }

@@ -22,15 +22,12 @@ namespace shellflow::grid_fluid {
 
 /// Adds the water `water_before` of each part of `before` (cut by `shells_before`) to
 /// `fraction`, whose cut cells must already be `after`'s (cut by `shells_after`): a whole
-/// cell's or a slot's in values(), an extra part's in part_values(). Returns the water [cells]
-/// no sample could place (each such part's goes to its cell's part that holds its corners,
-/// or the cell's slot).
-double carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
+/// cell's or a slot's in values(), an extra part's in part_values(). A part none of whose
+/// samples lands keeps its water in its cell, in the part holding most of its corners (the
+/// slot among equals).
+void carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
                         std::span<const double> water_before, const ShellGeometry& shells_before,
                         const CellParts& after, const ShellGeometry& shells_after,
                         const LevelSet& level_set, VolumeFraction& fraction);
-
-/// Whether `cell` has the same parts (the same corner groups) in `before` and `after`.
-bool same_parts(const CellParts& before, const CellParts& after, std::int64_t cell);
 
 }  // namespace shellflow::grid_fluid
