@@ -344,16 +344,21 @@ TEST(GridFluidShellsSlow, WaterInAShakenCupMakesNoWater) {
   EXPECT_GT(lowest, 0.94 * v0);
 }
 
+/// A verify scene with /fluid/water/cut_cells on (and no particles: not on cut cells yet).
+SceneRun load_on_cut_cells(const std::string& name) {
+  return load(name, [](nlohmann::json& fluid) {
+    fluid["water"]["cut_cells"] = true;
+    fluid["water"]["particles"]["per_cell"] = 0;
+  });
+}
+
 // Cut cells (issue #52): configs/verify/water_sheet_on_tilted_plate (48 cells, a sheet two
 // cells thick sliding down a plate tilted 20 degrees across a closed tank) with
 // /fluid/water/cut_cells on (no particles: not on cut cells yet). The issue's bounds: the water
 // drifts by at most 1 % over the second (what it drifts: docs/measured-figures.md), and no
 // water moves faster than 3 √(2 g H), H = 1 m the tank's height.
 TEST(GridFluidShellsSlow, ASheetOnATiltedPlateOnCutCellsKeepsItsWater) {
-  auto run = load("water_sheet_on_tilted_plate.json", [](nlohmann::json& fluid) {
-    fluid["water"]["cut_cells"] = true;
-    fluid["water"]["particles"]["per_cell"] = 0;
-  });
+  auto run = load_on_cut_cells("water_sheet_on_tilted_plate.json");
   const double dt0 = 1.0 / run.scene.time.fps;
   const double v0 = start_water_scene(run);
   const auto volume = [&] { return test::reported(*run.fluid, "water_volume"); };
@@ -376,10 +381,7 @@ TEST(GridFluidShellsSlow, ASheetOnATiltedPlateOnCutCellsKeepsItsWater) {
 // bottom's rim gives slivers under it water; docs/cut-cells.md); nothing faster than
 // 3 √(2 g H), H = 0.875 m the tank's height (the issue's bound).
 TEST(GridFluidShellsSlow, AShakenCupOnCutCellsKeepsItsWater) {
-  auto run = load("water_sloshing_cup.json", [](nlohmann::json& fluid) {
-    fluid["water"]["cut_cells"] = true;
-    fluid["water"]["particles"]["per_cell"] = 0;
-  });
+  auto run = load_on_cut_cells("water_sloshing_cup.json");
   const double dt0 = 1.0 / run.scene.time.fps;
   const double v0 = start_water_scene(run);
   const auto volume = [&] { return test::reported(*run.fluid, "water_volume"); };
