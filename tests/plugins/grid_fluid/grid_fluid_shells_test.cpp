@@ -319,13 +319,10 @@ TEST(GridFluidShellsSlow, WaterInAShakenCupMakesNoWater) {
   // sampled, −3.6 … +0.7 %, ends −3.0 %; with the pressure solves' face fractions (a cell
   // the wall cuts passes the flow of its centre's side only), −2.5 … +0.9 %, ends −2.1 %.
   // The bounds: the widest of these swings and half again.
-  const bool still = getenv("STILL") != nullptr;
-  const int below_j = still ? 22 : 12;
-  auto run = load(getenv("ZZ") ? "zz_scratch_cup.json" : "water_sloshing_cup.json",
-                  [](nlohmann::json& fluid) {
-                    fluid["resolution"] = 32;
-                    fluid["water"]["particles"]["per_cell"] = 0;
-                  });
+  auto run = load("water_sloshing_cup.json", [](nlohmann::json& fluid) {
+    fluid["resolution"] = 32;
+    fluid["water"]["particles"]["per_cell"] = 0;
+  });
   const double dt0 = 1.0 / run.scene.time.fps;
   const double v0 = start_water_scene(run);
   const auto volume = [&] { return test::reported(*run.fluid, "water_volume"); };

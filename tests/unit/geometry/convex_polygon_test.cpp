@@ -12,9 +12,9 @@ namespace {
 
 TEST(ConvexPolygon, ALargeTriangleInTheCubesDiagonalPlaneClipsToTheRegularHexagon) {
   // A triangle of the plane x + y + z = 1.5 far larger than the cube.
-  const ConvexPolygon triangle = ConvexPolygon::triangle(
-      {Eigen::Vector3d(10.0, -4.25, -4.25), Eigen::Vector3d(-4.25, 10.0, -4.25),
-       Eigen::Vector3d(-4.25, -4.25, 10.0)});
+  const ConvexPolygon triangle = ConvexPolygon::triangle({Eigen::Vector3d(10.0, -4.25, -4.25),
+                                                          Eigen::Vector3d(-4.25, 10.0, -4.25),
+                                                          Eigen::Vector3d(-4.25, -4.25, 10.0)});
   const ConvexPolygon hexagon =
       clip_to_box(triangle, Eigen::Vector3d::Zero(), Eigen::Vector3d::Ones());
   ASSERT_EQ(hexagon.count, 6);
@@ -37,8 +37,8 @@ TEST(ConvexPolygon, ATriangleInsideTheBoxIsKeptWholeAndOneOutsideVanishes) {
   ASSERT_EQ(kept.count, 3);
   EXPECT_NEAR(moments(kept).area, 0.5 * 0.7 * 0.7, 1e-15);
   EXPECT_NEAR((moments(kept).centroid - (c[0] + c[1] + c[2]) / 3.0).norm(), 0.0, 1e-15);
-  const ConvexPolygon gone = clip_to_box(ConvexPolygon::triangle(c),
-                                         Eigen::Vector3d::Constant(2.0), Eigen::Vector3d::Constant(3.0));
+  const ConvexPolygon gone = clip_to_box(ConvexPolygon::triangle(c), Eigen::Vector3d::Constant(2.0),
+                                         Eigen::Vector3d::Constant(3.0));
   EXPECT_LT(gone.count, 3);
   EXPECT_EQ(moments(gone).area, 0.0);
 }

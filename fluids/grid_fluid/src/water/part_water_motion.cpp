@@ -52,9 +52,9 @@ bool same_parts(const CellParts& before, const CellParts& after, std::int64_t ce
 }  // namespace
 
 void carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
-                        std::span<const double> water_before, const ShellGeometry& shells_before,
-                        const CellParts& after, const ShellGeometry& shells_after,
-                        const LevelSet& level_set, VolumeFraction& fraction) {
+                      std::span<const double> water_before, const ShellGeometry& shells_before,
+                      const CellParts& after, const ShellGeometry& shells_after,
+                      const LevelSet& level_set, VolumeFraction& fraction) {
   constexpr int kSamples = 4;  // per axis, as the first share of a cut cell's water
   const double dx = grid.dx(), h = dx / kSamples;
   const double off = 2.0 * shells_after.epsilon();  // a point beside a shell, past its wedge

@@ -26,8 +26,8 @@ namespace shellflow::grid_fluid {
 /// samples lands keeps its water in its cell, in the part holding most of its corners (the
 /// slot among equals).
 void carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
-                        std::span<const double> water_before, const ShellGeometry& shells_before,
-                        const CellParts& after, const ShellGeometry& shells_after,
-                        const LevelSet& level_set, VolumeFraction& fraction);
+                      std::span<const double> water_before, const ShellGeometry& shells_before,
+                      const CellParts& after, const ShellGeometry& shells_after,
+                      const LevelSet& level_set, VolumeFraction& fraction);
 
 }  // namespace shellflow::grid_fluid
