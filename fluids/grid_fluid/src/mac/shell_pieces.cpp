@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "shellflow/geometry/convex_polygon.hpp"
+#include "shellflow/geometry/triangle_distance.hpp"
 
 namespace shellflow::grid_fluid {
 
@@ -55,11 +56,8 @@ std::vector<ShellPiece> shell_pieces(const ShellGeometry& shells, const grid::Un
             piece.normal = normal;
             piece.centroid.shell = s;
             piece.centroid.triangle = t;
-            const double inverse = 1.0 / twice_area.squaredNorm();
-            const Eigen::Vector3d d = centroid - c[0];
-            const double l1 = d.cross(c[2] - c[0]).dot(twice_area) * inverse;
-            const double l2 = (c[1] - c[0]).cross(d).dot(twice_area) * inverse;
-            piece.centroid.barycentric = Eigen::Vector3d(1.0 - l1 - l2, l1, l2);
+            piece.centroid.barycentric =
+                geometry::closest_point_on_triangle(centroid, c).barycentric;
             piece.front = parts.part_seen_from(shells, grid, cell, centroid + off * normal);
             piece.back = parts.part_seen_from(shells, grid, cell, centroid - off * normal);
             found[omp_get_thread_num()].push_back(piece);

@@ -57,14 +57,8 @@ void CutCellWater::update(sdk::ShellSet shells, const ShellGeometry& geometry,
       water[p] = old[p].slot ? fraction.values()[old[p].cell] : fraction.part_values()[p];
     for (const CellPart& part : old)
       if (part.slot) fraction.values()[part.cell] = 0.0;
-    m_fragments = carry_fragments(*before, mac);
-  } else {
-    m_fragments = m_parts->still_fragments();
-    for (int a = 0; a < 3; ++a)
-      for (const FaceSplit& split : m_parts->split_faces(a))
-        for (int k = 0; k < split.count; ++k)
-          m_fragments[a][split.first + k] = mac.face_velocity(a)[split.face];
   }
+  m_fragments = carry_fragments(before.get(), mac);
   m_projected = m_fragments;
   m_cut_faces = CutFaces{m_parts.get(), &m_fragments};
   fraction.set_cut_cells(m_parts.get(), &m_projected, &m_shell_flux);
@@ -73,19 +67,19 @@ void CutCellWater::update(sdk::ShellSet shells, const ShellGeometry& geometry,
     carry_part_water(m_grid, *before, water, *previous, *m_parts, geometry, level_set, fraction);
 }
 
-FragmentVelocities CutCellWater::carry_fragments(const CellParts& before,
+FragmentVelocities CutCellWater::carry_fragments(const CellParts* before,
                                                  const MacGrid& mac) const {
   FragmentVelocities carried = m_parts->still_fragments();
   for (int a = 0; a < 3; ++a)
     for (const FaceSplit& split : m_parts->split_faces(a)) {
-      const FaceSplit* old = before.split(a, split.face);
+      const FaceSplit* old = before != nullptr ? before->split(a, split.face) : nullptr;
       const auto list = m_parts->fragments_of(a, split);
       for (size_t k = 0; k < list.size(); ++k) {
         double velocity = mac.face_velocity(a)[split.face];
         int most = 0;
         if (old != nullptr)
           for (int o = 0; o < old->count; ++o) {
-            const auto& fragment = before.fragments_of(a, *old)[o];
+            const auto& fragment = before->fragments_of(a, *old)[o];
             const int shared = std::popcount(unsigned(fragment.corners & list[k].corners));
             if (shared > most) {
               most = shared;
@@ -139,12 +133,10 @@ void CutCellWater::share_water(const ShellGeometry& geometry, const LevelSet& le
       // volume; the cell's water is then shared in proportion, its total kept.
       for (size_t p = first; p < last; ++p) {
         if (found[p] != 0) continue;
-        const Eigen::Vector3i ijk = m_grid.coordinates(Location::Cell, cell);
         int corners = 0, wet = 0;
         for (int c = 0; c < 8; ++c) {
           if (!(all[p].corners >> c & 1u)) continue;
-          const Eigen::Vector3d x =
-              m_grid.position(Location::Node, Eigen::Vector3i(ijk + CellParts::cell_corner(c)));
+          const Eigen::Vector3d x = CellParts::corner_position(m_grid, cell, c);
           const auto phi = visible.sample_visible(level_set.phi(), x, geometry);
           ++corners;
           wet += phi && *phi <= 0.0 ? 1 : 0;
@@ -323,10 +315,8 @@ std::optional<CutCellWater::FilmSurface> CutCellWater::film_surface(const ShellG
   if (!contact) return std::nullopt;
   // The shell's plane, its normal towards the part's corners.
   Eigen::Vector3d normal = contact->normal;
-  const int first = std::countr_zero(unsigned(part.corners));
-  const Eigen::Vector3d corner = m_grid.position(
-      Location::Node, Eigen::Vector3i(m_grid.coordinates(Location::Cell, part.cell) +
-                                      CellParts::cell_corner(first)));
+  const Eigen::Vector3d corner =
+      CellParts::corner_position(m_grid, part.cell, std::countr_zero(unsigned(part.corners)));
   if (normal.dot(corner - contact->point) < 0.0) normal = -normal;
   FilmSurface film;
   film.shell = normal.dot(contact->point - centre) / dx;

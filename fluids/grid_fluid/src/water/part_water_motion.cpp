@@ -77,8 +77,7 @@ void carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
     landings.clear();
     // The part's samples: the 4³ of its cell that see it, or, a part too small for them (a
     // sliver the shell is leaving), its corners.
-    const Eigen::Vector3i ijk = grid.coordinates(Location::Cell, part.cell);
-    const Eigen::Vector3d low = grid.position(Location::Node, ijk);
+    const Eigen::Vector3d low = CellParts::corner_position(grid, part.cell, 0);
     samples.clear();
     for (int k = 0; k < kSamples; ++k)
       for (int j = 0; j < kSamples; ++j)
@@ -90,8 +89,7 @@ void carry_part_water(const grid::UniformGrid& grid, const CellParts& before,
     if (samples.empty())
       for (int c = 0; c < 8; ++c)
         if (part.corners >> c & 1u)
-          samples.push_back(
-              grid.position(Location::Node, Eigen::Vector3i(ijk + CellParts::cell_corner(c))));
+          samples.push_back(CellParts::corner_position(grid, part.cell, c));
     for (const Eigen::Vector3d& x : samples) {
       // The sample rides its nearest shell point, and must then still see that point's side.
       Landing landing;

@@ -126,6 +126,13 @@ class CellParts {
     return Eigen::Vector3i(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1);
   }
   static Eigen::Vector3i face_corner(int axis, int corner);
+  /// Where corner `corner` (bit x + 2y + 4z) of cell `cell` of `grid` lies.
+  static Eigen::Vector3d corner_position(const grid::UniformGrid& grid, std::int64_t cell,
+                                         int corner) {
+    return grid.position(
+        grid::Location::Node,
+        Eigen::Vector3i(grid.coordinates(grid::Location::Cell, cell) + cell_corner(corner)));
+  }
 
  private:
   std::vector<CellPart> m_parts;

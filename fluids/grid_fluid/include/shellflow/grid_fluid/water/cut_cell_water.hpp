@@ -64,8 +64,9 @@ class CutCellWater {
   /// for the cells `before` (may be null) cut too.
   void share_water(const ShellGeometry& geometry, const LevelSet& level_set,
                    VolumeFraction& fraction, const CellParts* before) const;
-  /// The fragments' velocities carried from the parts `before` (see update()).
-  FragmentVelocities carry_fragments(const CellParts& before, const MacGrid& mac) const;
+  /// The fragments' velocities carried from the parts `before` (see update(); null: every
+  /// fragment at its face's velocity in `mac`).
+  FragmentVelocities carry_fragments(const CellParts* before, const MacGrid& mac) const;
 
   /// m_part_phi from the level set: a slot's sample at the centre it holds; any other part's
   /// (an extra part, a slot whose centre lies on a shell) continued to the centre from its side
